@@ -1,0 +1,187 @@
+//! The algorithms of SPEC section 4 and the one entry point the engine calls,
+//! [`activate`]: draw the robot's frame, build its observation, run the algorithm,
+//! map the decision back to the global frame.
+
+mod angle_bisector;
+mod center_of_gravity;
+mod converge_locality;
+mod converge_quadrant;
+mod median;
+mod memory;
+mod termination;
+
+pub use memory::RobotMemory;
+
+use crate::geometry::{AxisFrame, Point};
+use crate::observe::{LdObservation, OlaObservation, PositionObservation};
+use crate::rng::Stream;
+use crate::vision::Sight;
+
+/// What an algorithm decides, in the robot's local frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Decision<P> {
+    /// Do not move.
+    Stay,
+    /// Move exactly the step length b along this unit direction (a rigid move).
+    Step(P),
+    /// Move along this unit direction by min(b, the given distance) (baselines that
+    /// know distances).
+    StepAtMost(P, f64),
+}
+
+/// The algorithms (config `algorithm.name`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AlgorithmKind {
+    /// ConvergeLocality (LD), SPEC 4.1.
+    ConvergeLocality,
+    /// ConvergeQuadrant (OLA), SPEC 4.2.
+    ConvergeQuadrant,
+    /// ConvergeQuadrantTermination (OLA + 2 bits per axis), SPEC 4.3.
+    ConvergeQuadrantTermination,
+    /// Move toward the centroid of the visible points (sees positions), SPEC 4.4.
+    CenterOfGravity,
+    /// Boundary robots move toward the median visible point, SPEC 4.4.
+    Median,
+    /// Boundary robots move along the bisector of their visible angle, SPEC 4.4.
+    AngleBisector,
+}
+
+/// The sensing model an algorithm runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// Locality Detection: directions and far bits.
+    Ld,
+    /// Orthogonal Line Agreement: directions in agreed axes.
+    Ola,
+    /// Positions of visible robots (baselines).
+    Positions,
+}
+
+impl AlgorithmKind {
+    /// Every algorithm.
+    pub const ALL: [AlgorithmKind; 6] = [
+        AlgorithmKind::ConvergeLocality,
+        AlgorithmKind::ConvergeQuadrant,
+        AlgorithmKind::ConvergeQuadrantTermination,
+        AlgorithmKind::CenterOfGravity,
+        AlgorithmKind::Median,
+        AlgorithmKind::AngleBisector,
+    ];
+
+    /// The config name.
+    pub fn name(self) -> &'static str {
+        match self {
+            AlgorithmKind::ConvergeLocality => "converge_locality",
+            AlgorithmKind::ConvergeQuadrant => "converge_quadrant",
+            AlgorithmKind::ConvergeQuadrantTermination => "converge_quadrant_termination",
+            AlgorithmKind::CenterOfGravity => "center_of_gravity",
+            AlgorithmKind::Median => "median",
+            AlgorithmKind::AngleBisector => "angle_bisector",
+        }
+    }
+
+    /// The sensing model.
+    pub fn model(self) -> Model {
+        match self {
+            AlgorithmKind::ConvergeLocality
+            | AlgorithmKind::Median
+            | AlgorithmKind::AngleBisector => Model::Ld,
+            AlgorithmKind::ConvergeQuadrant | AlgorithmKind::ConvergeQuadrantTermination => {
+                Model::Ola
+            }
+            AlgorithmKind::CenterOfGravity => Model::Positions,
+        }
+    }
+
+    /// Whether robots keep state between activations (the termination bits).
+    pub fn has_memory(self) -> bool {
+        self == AlgorithmKind::ConvergeQuadrantTermination
+    }
+
+    /// Whether the paper's guarantees assume c >= 2b for this algorithm.
+    pub fn needs_locality_at_least_twice_step(self) -> bool {
+        matches!(
+            self,
+            AlgorithmKind::ConvergeLocality
+                | AlgorithmKind::ConvergeQuadrant
+                | AlgorithmKind::ConvergeQuadrantTermination
+        )
+    }
+}
+
+/// Parameters every activation needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlgorithmParams {
+    /// Which algorithm.
+    pub kind: AlgorithmKind,
+    /// Step length b.
+    pub step: f64,
+    /// Locality constant c.
+    pub locality: f64,
+}
+
+/// One activation of robot `robot`: returns its global displacement, or `None` to stay.
+///
+/// `memory` is the robot's persistent state (termination algorithm only; `None` for
+/// the others). `stream` is the robot's random stream for this activation; its frame
+/// (for memoryless algorithms) is drawn from it first.
+pub fn activate<P: Point, S: Sight<P> + ?Sized>(
+    params: &AlgorithmParams,
+    sight: &S,
+    robot: usize,
+    memory: Option<&mut RobotMemory>,
+    stream: &mut Stream,
+) -> Option<P> {
+    let b = params.step;
+    match params.kind.model() {
+        Model::Ld | Model::Positions => {
+            let frame = P::random_frame(stream);
+            let decision = match params.kind {
+                AlgorithmKind::ConvergeLocality => converge_locality::decide(
+                    &LdObservation::new(sight, robot, frame, params.locality),
+                    stream,
+                ),
+                AlgorithmKind::Median => {
+                    median::decide(&LdObservation::new(sight, robot, frame, params.locality))
+                }
+                AlgorithmKind::AngleBisector => angle_bisector::decide(&LdObservation::new(
+                    sight,
+                    robot,
+                    frame,
+                    params.locality,
+                )),
+                AlgorithmKind::CenterOfGravity => {
+                    center_of_gravity::decide(&PositionObservation::new(sight, robot, frame))
+                }
+                _ => unreachable!("model dispatch"),
+            };
+            to_global(decision, b, |v| P::to_global(&frame, v))
+        }
+        Model::Ola => match params.kind {
+            AlgorithmKind::ConvergeQuadrant => {
+                let frame = AxisFrame::random(P::DIM, stream);
+                let obs = OlaObservation::new(sight, robot, frame);
+                to_global(converge_quadrant::decide(&obs, stream), b, |v| {
+                    frame.to_global(v)
+                })
+            }
+            AlgorithmKind::ConvergeQuadrantTermination => {
+                let memory = memory.expect("the termination algorithm needs robot memory");
+                let frame = memory.frame;
+                let obs = OlaObservation::new(sight, robot, frame);
+                to_global(termination::decide(&obs, memory, stream), b, |v| {
+                    frame.to_global(v)
+                })
+            }
+            _ => unreachable!("model dispatch"),
+        },
+    }
+}
+
+fn to_global<P: Point>(decision: Decision<P>, step: f64, map: impl Fn(P) -> P) -> Option<P> {
+    match decision {
+        Decision::Stay => None,
+        Decision::Step(dir) => Some(map(dir) * step),
+        Decision::StepAtMost(dir, dist) => Some(map(dir) * step.min(dist)),
+    }
+}

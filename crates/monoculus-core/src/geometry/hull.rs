@@ -1,0 +1,123 @@
+//! Convex hulls: area and diameter in the plane.
+
+use glam::DVec2;
+
+use super::Point;
+
+/// Shape measures that depend on the dimension: the size of the convex hull (area in
+/// d = 2, volume in d = 3) and the diameter of a point set.
+pub trait HullGeometry: Point {
+    /// Area (d = 2) or volume (d = 3) of the convex hull; 0 for degenerate sets.
+    fn hull_measure(points: &[Self]) -> f64;
+    /// The largest distance between two of the points; 0 for fewer than two.
+    fn diameter(points: &[Self]) -> f64;
+}
+
+/// The convex hull of a planar point set, counter-clockwise, without collinear
+/// points on its edges (Andrew's monotone chain, O(n log n)).
+pub fn convex_hull_2d(points: &[DVec2]) -> Vec<DVec2> {
+    let mut pts: Vec<DVec2> = points.to_vec();
+    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    pts.dedup();
+    if pts.len() < 3 {
+        return pts;
+    }
+    let cross = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+    let mut hull: Vec<DVec2> = Vec::with_capacity(2 * pts.len());
+    for &p in &pts {
+        while hull.len() >= 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+            hull.pop();
+        }
+        hull.push(p);
+    }
+    let lower_len = hull.len() + 1;
+    for &p in pts.iter().rev().skip(1) {
+        while hull.len() >= lower_len && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+        {
+            hull.pop();
+        }
+        hull.push(p);
+    }
+    hull.pop();
+    hull
+}
+
+/// Area of a simple polygon given in order (shoelace formula).
+pub fn polygon_area(polygon: &[DVec2]) -> f64 {
+    if polygon.len() < 3 {
+        return 0.0;
+    }
+    let mut twice = 0.0;
+    for i in 0..polygon.len() {
+        let j = (i + 1) % polygon.len();
+        twice += polygon[i].perp_dot(polygon[j]);
+    }
+    0.5 * twice.abs()
+}
+
+impl HullGeometry for DVec2 {
+    fn hull_measure(points: &[Self]) -> f64 {
+        polygon_area(&convex_hull_2d(points))
+    }
+
+    fn diameter(points: &[Self]) -> f64 {
+        let hull = convex_hull_2d(points);
+        let mut best: f64 = 0.0;
+        // The diameter is realised by two hull vertices. Hulls of random swarms are
+        // small (O(log n) vertices for a uniform square), so the quadratic scan is cheap.
+        for i in 0..hull.len() {
+            for j in i + 1..hull.len() {
+                best = best.max(hull[i].distance_squared(hull[j]));
+            }
+        }
+        best.sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_of_square_with_interior_and_edge_points() {
+        let pts = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(0.0, 2.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(0.0, 0.0),
+        ];
+        let hull = convex_hull_2d(&pts);
+        assert_eq!(hull.len(), 4);
+        assert!((DVec2::hull_measure(&pts) - 4.0).abs() < 1e-12);
+        assert!((DVec2::diameter(&pts) - 8f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn degenerate_sets() {
+        assert_eq!(DVec2::hull_measure(&[]), 0.0);
+        assert_eq!(DVec2::diameter(&[DVec2::ONE]), 0.0);
+        let line: Vec<DVec2> = (0..5).map(|i| DVec2::new(i as f64, 0.0)).collect();
+        assert_eq!(DVec2::hull_measure(&line), 0.0);
+        assert!((DVec2::diameter(&line) - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn diameter_matches_brute_force() {
+        let mut s = crate::rng::Stream::new(1, 1, 1, 1);
+        for _ in 0..20 {
+            let pts: Vec<DVec2> = (0..60)
+                .map(|_| DVec2::new(s.uniform_in(-5.0, 5.0), s.uniform_in(-3.0, 3.0)))
+                .collect();
+            let mut brute: f64 = 0.0;
+            for a in &pts {
+                for b in &pts {
+                    brute = brute.max(a.distance(*b));
+                }
+            }
+            assert!((DVec2::diameter(&pts) - brute).abs() < 1e-12);
+        }
+    }
+}

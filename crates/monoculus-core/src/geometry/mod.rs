@@ -1,0 +1,9 @@
+//! Geometry: points in d dimensions, local frames, convex hulls.
+
+mod axis_frame;
+mod hull;
+mod point;
+
+pub use axis_frame::{AxisFrame, MAX_DIM};
+pub use hull::{HullGeometry, convex_hull_2d, polygon_area};
+pub use point::{Point, angle_between};

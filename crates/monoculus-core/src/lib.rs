@@ -1,0 +1,17 @@
+#![doc = include_str!("../README.md")]
+
+pub mod algorithms;
+pub mod geometry;
+pub mod init;
+pub mod metrics;
+pub mod observe;
+pub mod rng;
+pub mod vision;
+
+/// The most used items.
+pub mod prelude {
+    pub use crate::algorithms::{AlgorithmKind, AlgorithmParams, Decision, RobotMemory, activate};
+    pub use crate::geometry::{AxisFrame, HullGeometry, Point};
+    pub use crate::rng::{Purpose, Stream};
+    pub use crate::vision::{ExactSight, Sight, VisionParams};
+}

@@ -1,0 +1,80 @@
+//! [`LdObservation`]: the Locality Detection model.
+
+use super::{count_visible_up_to, direction, sample_visible_point};
+use crate::geometry::Point;
+use crate::rng::Stream;
+use crate::vision::Sight;
+
+/// One visible point as an LD robot senses it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seen<P> {
+    /// Unit direction in the robot's local frame.
+    pub direction: P,
+    /// Whether the point is farther than the locality constant c.
+    pub far: bool,
+}
+
+/// What an LD robot senses in one activation: directions in a local frame (random
+/// rotation and chirality) and one far/near bit per visible point.
+pub struct LdObservation<'a, P: Point, S: Sight<P> + ?Sized> {
+    sight: &'a S,
+    me: usize,
+    frame: P::Frame,
+    locality: f64,
+}
+
+impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
+    /// The view of robot `me` in the local `frame`, with locality constant `locality`.
+    pub fn new(sight: &'a S, me: usize, frame: P::Frame, locality: f64) -> Self {
+        LdObservation {
+            sight,
+            me,
+            frame,
+            locality,
+        }
+    }
+
+    fn local(&self, j: usize) -> P {
+        P::to_local(&self.frame, direction(self.sight, self.me, j))
+    }
+
+    fn is_far(&self, j: usize) -> bool {
+        let pos = self.sight.positions();
+        (pos[j] - pos[self.me]).length() > self.locality
+    }
+
+    /// The number of visible points, counted up to `limit`.
+    pub fn count_visible_up_to(&self, limit: usize) -> usize {
+        count_visible_up_to(self.sight, self.me, limit).0
+    }
+
+    /// If exactly one point is visible, its direction.
+    pub fn sole_visible(&self) -> Option<P> {
+        match count_visible_up_to(self.sight, self.me, 2) {
+            (1, Some(j)) => Some(self.local(j)),
+            _ => None,
+        }
+    }
+
+    /// The direction of a uniformly random visible far point, if any.
+    pub fn random_far(&self, stream: &mut Stream) -> Option<P> {
+        let n = self.sight.len();
+        if self.sight.count_within(self.me, self.locality) + 1 >= n {
+            return None; // nobody is far
+        }
+        let far = |j: usize| self.is_far(j);
+        sample_visible_point(self.sight, self.me, &far, stream).map(|j| self.local(j))
+    }
+
+    /// Every visible point, in unspecified order. Costs a full look (O(n log n)).
+    pub fn all(&self) -> Vec<Seen<P>> {
+        self.sight
+            .visible_points(self.me)
+            .into_iter()
+            .map(|j| Seen {
+                direction: self.local(j),
+                far: self.is_far(j),
+            })
+            .collect()
+    }
+}

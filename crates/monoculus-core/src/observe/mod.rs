@@ -1,0 +1,84 @@
+//! Observations: what an algorithm is given in one activation.
+//!
+//! An observation wraps a [`Sight`] privately and answers only what a monoculus robot
+//! can sense: directions (unit vectors in the robot's local frame), far/near bits (LD),
+//! and on which side of the agreed axes robots lie (OLA). Positions and distances cannot
+//! be read from these types. The one exception is [`PositionObservation`], the model of
+//! the centre-of-gravity baseline, which by definition sees positions.
+//!
+//! Random choices ("choose any" in the paper) are made here, by one procedure shared by
+//! every [`Sight`] implementation, so that the R-tree engine and the brute-force oracle
+//! choose the same targets from the same random stream: draw a robot uniformly, keep it
+//! if it passes the algorithm's filter and represents a visible point, else draw again;
+//! after [`REJECTION_DRAWS`] misses, list all eligible points and draw one of them.
+//! Either way the result is uniform over the eligible visible points.
+
+mod ld;
+mod ola;
+mod positions;
+
+pub use ld::{LdObservation, Seen};
+pub use ola::{OlaObservation, Side};
+pub use positions::PositionObservation;
+
+use crate::geometry::Point;
+use crate::rng::Stream;
+use crate::vision::Sight;
+
+/// How many uniform draws the target sampler makes before it lists every eligible point.
+pub const REJECTION_DRAWS: usize = 32;
+
+/// A uniformly random visible point from robot `me` among the robots `eligible`
+/// accepts; `None` if there is none.
+pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
+    sight: &S,
+    me: usize,
+    eligible: &dyn Fn(usize) -> bool,
+    stream: &mut Stream,
+) -> Option<usize> {
+    let n = sight.len();
+    if n < 2 {
+        return None;
+    }
+    for _ in 0..REJECTION_DRAWS {
+        let j = stream.below(n);
+        if j != me && eligible(j) && sight.is_visible_point(me, j) {
+            return Some(j);
+        }
+    }
+    let all: Vec<usize> = (0..n)
+        .filter(|&j| j != me && eligible(j) && sight.is_visible_point(me, j))
+        .collect();
+    if all.is_empty() {
+        None
+    } else {
+        Some(all[stream.below(all.len())])
+    }
+}
+
+/// The number of visible points from `me`, counted up to `limit`, walking the robots
+/// nearest first (in general position the first `limit` robots are the answer).
+pub(crate) fn count_visible_up_to<P: Point, S: Sight<P> + ?Sized>(
+    sight: &S,
+    me: usize,
+    limit: usize,
+) -> (usize, Option<usize>) {
+    let mut count = 0;
+    let mut first = None;
+    for j in sight.nearest_first(me) {
+        if sight.is_visible_point(me, j) {
+            count += 1;
+            first.get_or_insert(j);
+            if count >= limit {
+                break;
+            }
+        }
+    }
+    (count, first)
+}
+
+/// The unit direction from robot `me` to robot `j`, global frame.
+pub(crate) fn direction<P: Point, S: Sight<P> + ?Sized>(sight: &S, me: usize, j: usize) -> P {
+    let pos = sight.positions();
+    (pos[j] - pos[me]).normalized()
+}

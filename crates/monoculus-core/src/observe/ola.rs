@@ -1,0 +1,126 @@
+//! [`OlaObservation`]: the Orthogonal Line Agreement model.
+
+use super::{count_visible_up_to, direction, sample_visible_point};
+use crate::geometry::{AxisFrame, Point};
+use crate::rng::Stream;
+use crate::vision::Sight;
+
+/// One of the two sides of an agreed axis, in the robot's local orientation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// Toward negative local coordinates.
+    Low,
+    /// Toward positive local coordinates.
+    High,
+}
+
+impl Side {
+    /// The other side.
+    pub fn opposite(self) -> Side {
+        match self {
+            Side::Low => Side::High,
+            Side::High => Side::Low,
+        }
+    }
+
+    /// -1 for `Low`, +1 for `High`.
+    pub fn sign(self) -> f64 {
+        match self {
+            Side::Low => -1.0,
+            Side::High => 1.0,
+        }
+    }
+
+    /// Both sides.
+    pub const BOTH: [Side; 2] = [Side::Low, Side::High];
+}
+
+/// What an OLA robot senses in one activation: directions in a local frame whose axes
+/// are the agreed lines in unknown order and orientation, and which open half-spaces
+/// beyond the hyperplanes through the robot hold robots.
+pub struct OlaObservation<'a, P: Point, S: Sight<P> + ?Sized> {
+    sight: &'a S,
+    me: usize,
+    frame: AxisFrame,
+    _point: std::marker::PhantomData<fn() -> P>,
+}
+
+impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
+    /// The view of robot `me` in the local axis `frame`.
+    pub fn new(sight: &'a S, me: usize, frame: AxisFrame) -> Self {
+        OlaObservation {
+            sight,
+            me,
+            frame,
+            _point: std::marker::PhantomData,
+        }
+    }
+
+    /// The dimension (number of agreed axes).
+    pub fn dim(&self) -> usize {
+        P::DIM
+    }
+
+    fn local(&self, j: usize) -> P {
+        self.frame.to_local(direction(self.sight, self.me, j))
+    }
+
+    /// Whether a robot lies beyond the hyperplane through this robot normal to local
+    /// axis `axis`, on `side`, by more than `eps_axis`. A robot in that open half-space
+    /// has a visible robot there too (its nearest blocker lies on the same side), so
+    /// this is what the robot sees; it is read off the swarm's bounding box in O(1).
+    pub fn side_occupied(&self, axis: usize, side: Side) -> bool {
+        let a = self.frame.global_axis(axis);
+        let dir = side.sign() * self.frame.sign(axis); // +1: toward larger global coordinate
+        let p = self.sight.positions()[self.me].axis(a);
+        let (lo, hi) = self.sight.bounds();
+        let eps = self.sight.vision().eps_axis;
+        if dir > 0.0 {
+            hi.axis(a) > p + eps
+        } else {
+            lo.axis(a) < p - eps
+        }
+    }
+
+    /// The number of visible points, counted up to `limit`.
+    pub fn count_visible_up_to(&self, limit: usize) -> usize {
+        count_visible_up_to(self.sight, self.me, limit).0
+    }
+
+    /// If exactly one point is visible, its direction.
+    pub fn sole_visible(&self) -> Option<P> {
+        match count_visible_up_to(self.sight, self.me, 2) {
+            (1, Some(j)) => Some(self.local(j)),
+            _ => None,
+        }
+    }
+
+    /// The direction of a uniformly random visible point in the closed orthant given by
+    /// `constraints` (each: a local axis and the side the point must lie on, with
+    /// tolerance `eps_axis`), if any.
+    pub fn random_in_orthant(
+        &self,
+        constraints: &[(usize, Side)],
+        stream: &mut Stream,
+    ) -> Option<P> {
+        let pos = self.sight.positions();
+        let p = pos[self.me];
+        let eps = self.sight.vision().eps_axis;
+        let inside = |j: usize| {
+            let d = pos[j] - p;
+            constraints
+                .iter()
+                .all(|&(k, side)| side.sign() * self.frame.local_coord(d, k) >= -eps)
+        };
+        sample_visible_point(self.sight, self.me, &inside, stream).map(|j| self.local(j))
+    }
+
+    /// Every visible point's local direction, in unspecified order (a full look).
+    pub fn all(&self) -> Vec<P> {
+        self.sight
+            .visible_points(self.me)
+            .into_iter()
+            .map(|j| self.local(j))
+            .collect()
+    }
+}

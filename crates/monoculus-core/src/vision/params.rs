@@ -1,0 +1,32 @@
+//! [`VisionParams`]: the tolerances of the Look phase.
+
+/// Tolerances of what a robot sees (SPEC section 2). All lengths are absolute.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VisionParams {
+    /// Robots closer than this are one point; a robot this close to the observer is not
+    /// seen and does not block. Default `1e-9 * b`.
+    pub eps_pos: f64,
+    /// Largest angle (radians) between two rays that still counts as one ray, so that
+    /// the nearer robot blocks the farther. Default `1e-9`.
+    pub eps_ang: f64,
+    /// OLA: a robot is on a side of an agreed axis only if it lies more than this beyond
+    /// the hyperplane through the observer. Default `1e-9 * b`.
+    pub eps_axis: f64,
+}
+
+impl VisionParams {
+    /// The defaults of SPEC section 2 for step length `step`.
+    pub fn for_step(step: f64) -> Self {
+        VisionParams {
+            eps_pos: 1e-9 * step,
+            eps_ang: 1e-9,
+            eps_axis: 1e-9 * step,
+        }
+    }
+}
+
+impl Default for VisionParams {
+    fn default() -> Self {
+        Self::for_step(1.0)
+    }
+}

@@ -1,0 +1,29 @@
+//! The exact visibility predicate of SPEC section 2, shared by every path.
+//!
+//! All visibility answers (brute force, angular sweep, R-tree) end in these two
+//! functions, so fast paths differ from the oracle only in which candidates they test,
+//! never in how a candidate is judged.
+
+use super::VisionParams;
+use crate::geometry::{Point, angle_between};
+
+/// Whether robot position `r` blocks the view from `p` to `q`: `r` is farther than
+/// `eps_pos` from `p` (a robot at the observer's own position has no direction and
+/// blocks nothing), nearer than `|q - p| - eps_pos`, and within `eps_ang` of the ray.
+#[inline]
+pub fn blocks<P: Point>(p: P, r: P, q: P, v: &VisionParams) -> bool {
+    let dr = r - p;
+    let dq = q - p;
+    let lr = dr.length();
+    if lr <= v.eps_pos {
+        return false;
+    }
+    let lq = dq.length();
+    lr < lq - v.eps_pos && angle_between(dr, dq) <= v.eps_ang
+}
+
+/// Whether `q` is far enough from the observer at `p` to be seen at all.
+#[inline]
+pub fn distinct<P: Point>(p: P, q: P, v: &VisionParams) -> bool {
+    (q - p).length() > v.eps_pos
+}

@@ -1,0 +1,70 @@
+//! [`Sight`]: what the engine must answer about one snapshot of the swarm.
+
+use super::VisionParams;
+use crate::geometry::Point;
+
+/// Questions about one immutable configuration, asked on behalf of one observing robot.
+///
+/// This trait knows positions; robots never get it. Observations
+/// ([`crate::observe`]) wrap a `Sight` privately and expose only directions and
+/// far/near bits. Implementations: [`super::ExactSight`] (brute force, the
+/// definition) and the engine's R-tree index. Both must give the same answers; only
+/// their cost differs.
+pub trait Sight<P: Point>: Sync {
+    /// Positions of all robots, indexed by robot.
+    fn positions(&self) -> &[P];
+
+    /// The tolerances.
+    fn vision(&self) -> &VisionParams;
+
+    /// Smallest and largest coordinate on each axis over all robots.
+    fn bounds(&self) -> (P, P);
+
+    /// Whether robot `j` is seen from robot `i` (SPEC section 2, before co-located
+    /// robots are merged into one point).
+    fn sees(&self, i: usize, j: usize) -> bool;
+
+    /// Calls `f` with every robot other than `i` within distance `radius` (inclusive)
+    /// of robot `i`, in unspecified order.
+    fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize));
+
+    /// Robots other than `i`, nearest first (ties in any order).
+    fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_>;
+
+    /// Every visible point from robot `i` as its representative robot, ascending.
+    fn visible_points(&self, i: usize) -> Vec<usize>;
+
+    /// Number of robots.
+    fn len(&self) -> usize {
+        self.positions().len()
+    }
+
+    /// Whether there are no robots.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Whether robot `j` represents a visible point from `i`: `j` is seen, and no seen
+    /// robot with a smaller index lies within `eps_pos` of it (co-located robots are one
+    /// point, represented by the lowest index).
+    fn is_visible_point(&self, i: usize, j: usize) -> bool {
+        if !self.sees(i, j) {
+            return false;
+        }
+        let mut shadowed = false;
+        let eps = self.vision().eps_pos;
+        self.for_each_within(j, eps, &mut |k| {
+            if !shadowed && k < j && k != i && self.sees(i, k) {
+                shadowed = true;
+            }
+        });
+        !shadowed
+    }
+
+    /// Number of robots other than `i` within distance `radius` (inclusive).
+    fn count_within(&self, i: usize, radius: f64) -> usize {
+        let mut count = 0;
+        self.for_each_within(i, radius, &mut |_| count += 1);
+        count
+    }
+}

@@ -1,0 +1,20 @@
+//! [`IndexPoint`]: the bridge from [`Point`] to rstar's point type.
+
+use glam::DVec2;
+use monoculus_core::geometry::HullGeometry;
+
+/// A [`HullGeometry`] point that the R-tree can store. Implemented for the plane;
+/// d = 3 follows once `HullGeometry` has a hull volume for `DVec3`.
+pub trait IndexPoint: HullGeometry {
+    /// rstar's point type of the same dimension.
+    type Array: rstar::Point<Scalar = f64> + Copy + Send + Sync;
+    /// Converts to rstar's point.
+    fn to_array(self) -> Self::Array;
+}
+
+impl IndexPoint for DVec2 {
+    type Array = [f64; 2];
+    fn to_array(self) -> [f64; 2] {
+        [self.x, self.y]
+    }
+}

@@ -1,0 +1,109 @@
+//! [`IndexedSight`]: the engine's [`Sight`], answered through an rstar R-tree.
+
+use std::any::Any;
+
+use glam::DVec2;
+use monoculus_core::metrics::bounds;
+use monoculus_core::vision::{
+    Sight, VisionParams, blocks, distinct, representatives, visible_points_sweep_2d,
+};
+use rstar::{RTree, primitives::GeomWithData};
+
+use super::{IndexPoint, Tube};
+
+/// One snapshot of the swarm with an R-tree over it.
+///
+/// - `sees(i, j)`: one tube query along the segment i -> j, then the exact predicate on
+///   the few robots found (O(log n + k)).
+/// - `for_each_within`, `nearest_first`: the tree's radius and nearest-neighbour queries.
+/// - `visible_points(i)` (a full look): the angular sweep in the plane (O(n log n)),
+///   one tube query per robot otherwise.
+pub struct IndexedSight<P: IndexPoint> {
+    positions: Vec<P>,
+    tree: RTree<GeomWithData<P::Array, u32>>,
+    vision: VisionParams,
+    bounds: (P, P),
+}
+
+impl<P: IndexPoint> IndexedSight<P> {
+    /// Builds the index over `positions` (bulk load, O(n log n)).
+    pub fn new(positions: Vec<P>, vision: VisionParams) -> Self {
+        let items: Vec<GeomWithData<P::Array, u32>> = positions
+            .iter()
+            .enumerate()
+            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
+            .collect();
+        let tree = RTree::bulk_load(items);
+        let bounds = bounds(&positions);
+        IndexedSight {
+            positions,
+            tree,
+            vision,
+            bounds,
+        }
+    }
+
+    /// Gives the positions back (to reuse the allocation).
+    pub fn into_positions(self) -> Vec<P> {
+        self.positions
+    }
+}
+
+impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
+    fn positions(&self) -> &[P] {
+        &self.positions
+    }
+
+    fn vision(&self) -> &VisionParams {
+        &self.vision
+    }
+
+    fn bounds(&self) -> (P, P) {
+        self.bounds
+    }
+
+    fn sees(&self, i: usize, j: usize) -> bool {
+        let (p, q) = (self.positions[i], self.positions[j]);
+        if i == j || !distinct(p, q, &self.vision) {
+            return false;
+        }
+        let tube = Tube::new(p, q, self.vision.eps_ang);
+        !self.tree.locate_with_selection_function(tube).any(|leaf| {
+            let k = leaf.data as usize;
+            k != i && k != j && blocks(p, self.positions[k], q, &self.vision)
+        })
+    }
+
+    fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        let p = self.positions[i];
+        // Ask the tree for a slightly larger radius, then decide with the same test as
+        // the oracle, so both agree on points at the boundary.
+        let r2 = radius * radius * (1.0 + 1e-12) + f64::MIN_POSITIVE;
+        for leaf in self.tree.locate_within_distance(p.to_array(), r2) {
+            let k = leaf.data as usize;
+            if k != i && (self.positions[k] - p).length() <= radius {
+                f(k);
+            }
+        }
+    }
+
+    fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
+        let p = self.positions[i].to_array();
+        Box::new(
+            self.tree
+                .nearest_neighbor_iter(p)
+                .map(|leaf| leaf.data as usize)
+                .filter(move |&k| k != i),
+        )
+    }
+
+    fn visible_points(&self, i: usize) -> Vec<usize> {
+        if let Some(plane) = (&self.positions as &dyn Any).downcast_ref::<Vec<DVec2>>() {
+            return visible_points_sweep_2d(plane, i, &self.vision);
+        }
+        let seen: Vec<usize> = (0..self.positions.len())
+            .filter(|&j| self.sees(i, j))
+            .collect();
+        representatives(&self.positions, &seen, &self.vision)
+    }
+}

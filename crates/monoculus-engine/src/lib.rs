@@ -1,0 +1,52 @@
+//! The monoculus engine: robots are `bevy_ecs` entities; a round is a `Schedule` of
+//! systems in [`RoundSet`] order (Activate, Look, Compute, Move, Measure); the Look is
+//! an immutable snapshot with an rstar R-tree ([`IndexedSight`]) that answers the
+//! visibility questions of the algorithms; Compute runs over robots in parallel with
+//! rayon. Results do not depend on the number of threads: every random draw comes from
+//! a stream keyed by (seed, robot, round).
+//!
+//! ```
+//! use glam::DVec2;
+//! use monoculus_core::prelude::*;
+//! use monoculus_core::init::{InitShape, generate};
+//! use monoculus_engine::prelude::*;
+//!
+//! let algorithm = AlgorithmParams { kind: AlgorithmKind::ConvergeLocality, step: 1.0, locality: 2.0 };
+//! let config = SimConfig {
+//!     algorithm,
+//!     vision: VisionParams::for_step(1.0),
+//!     backend: SightBackend::Index,
+//!     scheduler: SchedulerSpec::Fsync,
+//!     stop: StopSpec { criterion: StopCriterion::default_for(algorithm.kind), max_rounds: 10_000 },
+//!     seed: 7,
+//! };
+//! let start: Vec<DVec2> = generate(&InitShape::Square { side: 20.0 }, 50, 7);
+//! let outcome = Simulation::new(config, start).unwrap().run();
+//! assert!(outcome.converged);
+//! assert_eq!(outcome.hull_growth_rounds, 0); // Lemma 2
+//! ```
+
+pub mod components;
+mod error;
+mod index;
+pub mod resources;
+mod scheduler;
+mod simulation;
+mod stop;
+pub mod systems;
+
+pub use error::EngineError;
+pub use index::{IndexPoint, IndexedSight, Tube};
+pub use resources::SightBackend;
+pub use scheduler::{SchedulerSpec, SequentialOrder};
+pub use simulation::{RoundReport, RunOutcome, SimConfig, Simulation};
+pub use stop::{StopCriterion, StopSpec};
+pub use systems::RoundSet;
+
+/// The most used items.
+pub mod prelude {
+    pub use crate::{
+        IndexedSight, RunOutcome, SchedulerSpec, SequentialOrder, SightBackend, SimConfig,
+        Simulation, StopCriterion, StopSpec,
+    };
+}

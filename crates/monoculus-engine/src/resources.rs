@@ -1,0 +1,103 @@
+//! Resources: state shared by all robots of one simulation.
+
+use bevy_ecs::prelude::*;
+use monoculus_core::algorithms::AlgorithmParams;
+use monoculus_core::vision::{ExactSight, VisionParams};
+
+use crate::{IndexPoint, IndexedSight, SchedulerSpec};
+
+/// How visibility questions are answered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SightBackend {
+    /// The R-tree (the default).
+    #[default]
+    Index,
+    /// Brute force from the definition: slow, for cross-checking.
+    Exact,
+}
+
+/// The fixed parameters of a run.
+#[derive(Resource, Clone, Copy, Debug)]
+pub struct Params {
+    /// Algorithm, b, c.
+    pub algorithm: AlgorithmParams,
+    /// Visibility tolerances.
+    pub vision: VisionParams,
+    /// Visibility backend.
+    pub backend: SightBackend,
+    /// Scheduler.
+    pub scheduler: SchedulerSpec,
+    /// The run's seed.
+    pub seed: u64,
+}
+
+/// The current round number (rounds completed so far).
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct Clock {
+    /// Rounds completed.
+    pub round: u64,
+}
+
+/// Positions of all robots by index, gathered after every Move; `generation` counts
+/// the rounds in which something moved.
+#[derive(Resource, Clone, Debug)]
+pub struct Positions<P: IndexPoint> {
+    /// Positions by robot index.
+    pub points: Vec<P>,
+    /// Incremented whenever a robot moves.
+    pub generation: u64,
+}
+
+/// What all robots Look at: one immutable snapshot of the configuration.
+pub enum SnapshotSight<P: IndexPoint> {
+    /// Through the R-tree.
+    Index(IndexedSight<P>),
+    /// Brute force.
+    Exact(ExactSight<P>),
+}
+
+/// The Look snapshot and the position generation it was taken at.
+#[derive(Resource)]
+pub struct Snapshot<P: IndexPoint> {
+    /// The sight, if one has been taken.
+    pub sight: Option<SnapshotSight<P>>,
+    /// The generation of [`Positions`] it reflects.
+    pub generation: u64,
+}
+
+/// The SSYNC and sequential schedulers' bookkeeping.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct ScheduleState {
+    /// Sequential random order: the cycle whose permutation is cached.
+    pub cycle: Option<u64>,
+    /// That permutation.
+    pub order: Vec<usize>,
+}
+
+/// Counters over the run and of the last round.
+#[derive(Resource, Clone, Copy, Debug, Default)]
+pub struct Tally {
+    /// Activations so far.
+    pub activations: u64,
+    /// Activations that moved so far.
+    pub moves: u64,
+    /// Total distance travelled.
+    pub distance: f64,
+    /// Activations in the last round.
+    pub round_activations: u64,
+    /// Robots that moved in the last round.
+    pub round_moves: u64,
+    /// Rounds in which the hull area grew.
+    pub hull_growth_rounds: u64,
+}
+
+/// The shape of the configuration, measured after every round.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct Shape {
+    /// Area (d = 2) or volume (d = 3) of the convex hull.
+    pub hull: f64,
+    /// Largest pairwise distance.
+    pub diameter: f64,
+    /// Bounding-box extent per axis.
+    pub extents: Vec<f64>,
+}

@@ -1,0 +1,42 @@
+//! Schedulers (SPEC section 5) as data; the activation system in `systems` reads it.
+
+/// Order of the sequential scheduler.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SequentialOrder {
+    /// Robot `round mod n`.
+    RoundRobin,
+    /// A fresh random permutation of the robots for every n rounds (each robot once per
+    /// cycle, in random order).
+    Random,
+}
+
+/// Which robots act in a round.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SchedulerSpec {
+    /// Every robot, every round.
+    Fsync,
+    /// Each robot with probability `p` (at least one per round); with `fairness = Some(k)`
+    /// no robot waits more than k rounds.
+    Ssync {
+        /// Activation probability.
+        p: f64,
+        /// Largest number of rounds a robot may wait, if any.
+        fairness: Option<u32>,
+    },
+    /// One robot per round.
+    Sequential {
+        /// Which one.
+        order: SequentialOrder,
+    },
+}
+
+impl SchedulerSpec {
+    /// The config name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            SchedulerSpec::Fsync => "fsync",
+            SchedulerSpec::Ssync { .. } => "ssync",
+            SchedulerSpec::Sequential { .. } => "sequential",
+        }
+    }
+}

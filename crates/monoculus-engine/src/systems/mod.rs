@@ -1,0 +1,32 @@
+//! The systems of one round, in the order of [`RoundSet`]:
+//! Activate (scheduler) -> Look (snapshot) -> Compute (algorithms, in parallel) ->
+//! Move -> Measure.
+
+mod activate;
+mod compute;
+mod look;
+mod measure;
+mod movement;
+
+use bevy_ecs::prelude::*;
+
+pub use activate::activate_robots;
+pub use compute::{compute_intents, decide_one};
+pub use look::{refresh_snapshot, take_snapshot};
+pub use measure::{advance_clock, measure_shape};
+pub use movement::apply_moves;
+
+/// The phases of a round, run in this order.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RoundSet {
+    /// The scheduler marks the robots that act this round.
+    Activate,
+    /// The Look: one immutable snapshot of the configuration (and its R-tree).
+    Look,
+    /// Every activated robot computes its move against the snapshot, in parallel.
+    Compute,
+    /// Activated robots move.
+    Move,
+    /// Hull, diameter and extents are measured; the clock advances.
+    Measure,
+}

@@ -1,0 +1,34 @@
+use bevy_ecs::prelude::*;
+
+use crate::IndexPoint;
+use crate::components::{Activated, Intent, Position, Robot};
+use crate::resources::{Positions, Tally};
+
+/// Move: activated robots apply their displacement.
+pub fn apply_moves<P: IndexPoint>(
+    mut robots: Query<(&Robot, &Activated, &Intent<P>, &mut Position<P>)>,
+    mut positions: ResMut<Positions<P>>,
+    mut tally: ResMut<Tally>,
+) {
+    let (mut activated, mut moved, mut distance) = (0u64, 0u64, 0.0f64);
+    for (robot, active, intent, mut position) in &mut robots {
+        if !active.0 {
+            continue;
+        }
+        activated += 1;
+        if let Some(d) = intent.0 {
+            position.0 += d;
+            positions.points[robot.index as usize] = position.0;
+            moved += 1;
+            distance += d.length();
+        }
+    }
+    tally.round_activations = activated;
+    tally.round_moves = moved;
+    tally.activations += activated;
+    tally.moves += moved;
+    tally.distance += distance;
+    if moved > 0 {
+        positions.generation += 1;
+    }
+}

@@ -1,0 +1,72 @@
+//! Fixtures shared by the engine's tests.
+#![allow(dead_code, missing_docs, reason = "each test binary uses a subset")]
+
+use glam::DVec2;
+use monoculus_core::init::{InitShape, generate};
+use monoculus_core::prelude::*;
+use monoculus_engine::prelude::*;
+
+pub fn config(kind: AlgorithmKind, scheduler: SchedulerSpec, seed: u64) -> SimConfig {
+    let algorithm = AlgorithmParams {
+        kind,
+        step: 1.0,
+        locality: 2.0,
+    };
+    SimConfig {
+        algorithm,
+        vision: VisionParams::for_step(1.0),
+        backend: SightBackend::Index,
+        scheduler,
+        stop: StopSpec {
+            criterion: StopCriterion::default_for(kind),
+            max_rounds: 20_000,
+        },
+        seed,
+    }
+}
+
+pub fn square(n: usize, side: f64, seed: u64) -> Vec<DVec2> {
+    generate(&InitShape::Square { side }, n, seed)
+}
+
+/// Random, lattice, collinear (horizontal and diagonal) and co-located configurations.
+pub fn zoo(seed: u64) -> Vec<(&'static str, Vec<DVec2>)> {
+    let mut s = Stream::new(seed, 99, 0, 0);
+    let diagonal: Vec<DVec2> = (0..40).map(|_| DVec2::splat(s.uniform() * 10.0)).collect();
+    let mut stacked = square(30, 5.0, seed);
+    stacked.extend_from_slice(&stacked.clone()[..10]);
+    stacked.push(stacked[0] + DVec2::new(1e-10, 0.0));
+    let mut rays = vec![DVec2::ZERO];
+    for k in 1..6 {
+        for dir in [
+            DVec2::new(1.0, 0.0),
+            DVec2::new(0.6, 0.8),
+            DVec2::new(-1.0, 3.0).normalize(),
+        ] {
+            rays.push(dir * k as f64 * 0.7);
+        }
+    }
+    vec![
+        ("random", square(120, 10.0, seed)),
+        (
+            "lattice",
+            generate(&InitShape::Lattice { side: 6.0 }, 49, seed),
+        ),
+        ("line", generate(&InitShape::Line { side: 10.0 }, 40, seed)),
+        ("diagonal", diagonal),
+        ("stacked", stacked),
+        ("rays", rays),
+        (
+            "clusters",
+            generate(
+                &InitShape::Clusters {
+                    side: 10.0,
+                    clusters: 3,
+                    spread: 0.3,
+                },
+                90,
+                seed,
+            ),
+        ),
+    ]
+}

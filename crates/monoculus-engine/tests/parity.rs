@@ -1,0 +1,23 @@
+//! The R-tree engine against the brute-force engine: same decisions, same runs.
+
+mod common;
+
+use monoculus_core::prelude::*;
+use monoculus_engine::prelude::*;
+
+#[test]
+fn indexed_and_exact_backends_give_identical_runs() {
+    for kind in AlgorithmKind::ALL {
+        for (name, pts) in common::zoo(1) {
+            let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
+            cfg.stop.max_rounds = 60;
+            let a = Simulation::new(cfg, pts.clone()).unwrap();
+            cfg.backend = SightBackend::Exact;
+            let b = Simulation::new(cfg, pts.clone()).unwrap();
+            let (mut a, mut b) = (a, b);
+            let (oa, ob) = (a.run(), b.run());
+            assert_eq!(oa, ob, "{} on {name}", kind.name());
+            assert_eq!(a.positions(), b.positions(), "{} on {name}", kind.name());
+        }
+    }
+}
