@@ -1,0 +1,112 @@
+use std::io::Write;
+use std::path::PathBuf;
+
+use monoculus_engine::Simulation;
+use monoculus_experiments::results::num;
+
+use super::{ConfigArgs, Failure, thread_pool};
+
+#[derive(clap::Args, Debug)]
+pub struct TraceArgs {
+    #[command(flatten)]
+    config: ConfigArgs,
+    /// The seed.
+    #[arg(long)]
+    seed: u64,
+    /// Output CSV, one row per round.
+    #[arg(long)]
+    out: PathBuf,
+    /// Also write every robot's position per round to `<out stem>.positions.csv`
+    /// (columns round, robot, x, y).
+    #[arg(long)]
+    positions: bool,
+    /// Which cell of a sweep (default: the config must have one cell).
+    #[arg(long)]
+    cell: Option<usize>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+pub fn trace(args: TraceArgs) -> Result<(), Failure> {
+    let exp = args.config.load()?;
+    let cell = match (args.cell, exp.cells.len()) {
+        (Some(k), n) if k < n => &exp.cells[k],
+        (Some(k), n) => {
+            return Err(Failure::Input(format!(
+                "--cell {k}: the config has {n} cells (0..{n})"
+            )));
+        }
+        (None, 1) => &exp.cells[0],
+        (None, n) => {
+            return Err(Failure::Input(format!(
+                "{}: the config has {n} cells; choose one with --cell K or fix the swept keys with --set",
+                args.config.config.display()
+            )));
+        }
+    };
+    let pool = thread_pool(args.threads)?;
+    let mut out = std::io::BufWriter::new(std::fs::File::create(&args.out)?);
+    writeln!(
+        out,
+        "round,activated,moving,hull_area,diameter,extent_x,extent_y"
+    )?;
+    let mut pos_out = if args.positions {
+        let path = args.out.with_extension("positions.csv");
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&path)?);
+        writeln!(f, "round,robot,x,y")?;
+        Some(f)
+    } else {
+        None
+    };
+    let mut io_error: Option<std::io::Error> = None;
+    let outcome = pool.install(|| {
+        let mut sim = Simulation::new(
+            cell.sim_config(args.seed),
+            cell.initial_positions(args.seed),
+        )
+        .map_err(|e| Failure::Other(e.into()))?;
+        Ok::<_, Failure>(sim.run_with(|r| {
+            let mut write = || -> std::io::Result<()> {
+                writeln!(
+                    out,
+                    "{},{},{},{},{},{},{}",
+                    r.round,
+                    r.activated,
+                    r.moving,
+                    num(r.hull),
+                    num(r.diameter),
+                    num(r.extents[0]),
+                    num(r.extents[1])
+                )?;
+                if let Some(f) = pos_out.as_mut() {
+                    for (i, p) in r.positions.iter().enumerate() {
+                        writeln!(f, "{},{},{},{}", r.round, i, num(p.x), num(p.y))?;
+                    }
+                }
+                Ok(())
+            };
+            if io_error.is_none()
+                && let Err(e) = write()
+            {
+                io_error = Some(e);
+            }
+        }))
+    })?;
+    if let Some(e) = io_error {
+        return Err(e.into());
+    }
+    out.flush()?;
+    if let Some(mut f) = pos_out {
+        f.flush()?;
+    }
+    println!(
+        "rounds={} converged={} moves={} final_diameter={} hull_growth_rounds={}",
+        outcome.rounds,
+        outcome.converged,
+        outcome.moves,
+        num(outcome.final_diameter),
+        outcome.hull_growth_rounds
+    );
+    Ok(())
+}

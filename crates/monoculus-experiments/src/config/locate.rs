@@ -1,0 +1,72 @@
+//! Finding the line of a dotted key in a TOML source, for error messages.
+
+/// The 1-based line on which the key `path` (e.g. `swarm.n`) is set, if found. Handles
+/// `[table]` headers, `key = value` lines and dotted keys; good enough for configs.
+pub fn line_of(source: &str, path: &str) -> Option<usize> {
+    let parts: Vec<&str> = path.split('.').collect();
+    let mut table: Vec<String> = Vec::new();
+    let mut header_line = None;
+    for (no, raw) in source.lines().enumerate() {
+        let line = raw.trim();
+        if line.starts_with('[') && !line.starts_with("[[") {
+            let name = line
+                .trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim();
+            table = name
+                .split('.')
+                .map(|s| s.trim().trim_matches('"').to_string())
+                .collect();
+            if table.iter().map(String::as_str).eq(parts.iter().copied()) {
+                header_line = Some(no + 1);
+            }
+            continue;
+        }
+        let Some((key, _)) = line.split_once('=') else {
+            continue;
+        };
+        if line.starts_with('#') {
+            continue;
+        }
+        let mut full: Vec<String> = table.clone();
+        full.extend(
+            key.split('.')
+                .map(|s| s.trim().trim_matches('"').to_string()),
+        );
+        if full.iter().map(String::as_str).eq(parts.iter().copied()) {
+            return Some(no + 1);
+        }
+    }
+    // An unknown or missing key inside a table: point at the table header.
+    header_line.or_else(|| {
+        if parts.len() > 1 {
+            line_of(source, &parts[..parts.len() - 1].join("."))
+        } else {
+            None
+        }
+    })
+}
+
+/// The 1-based line of byte offset `offset`.
+pub fn line_of_offset(source: &str, offset: usize) -> usize {
+    source[..offset.min(source.len())].matches('\n').count() + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_keys_in_tables() {
+        let src = "name = \"x\"\n\n[swarm]\nn = [1, 2]\nside = 3\n[algorithm]\nname = \"a\"\n";
+        assert_eq!(line_of(src, "name"), Some(1));
+        assert_eq!(line_of(src, "swarm.n"), Some(4));
+        assert_eq!(line_of(src, "swarm.side"), Some(5));
+        assert_eq!(line_of(src, "algorithm.name"), Some(7));
+        assert_eq!(line_of(src, "algorithm.step"), Some(6));
+        assert_eq!(line_of(src, "swarm"), Some(3));
+        assert_eq!(line_of(src, "stop.max_rounds"), None);
+    }
+}

@@ -1,0 +1,566 @@
+//! Experiment configs: TOML files whose scalar fields may be lists (the experiment is
+//! the cartesian product of all lists: its cells), with `--set` overrides and one-line
+//! errors naming the file, line and key.
+
+mod locate;
+mod spec;
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use glam::DVec2;
+use monoculus_core::algorithms::{AlgorithmKind, AlgorithmParams};
+use monoculus_core::init::{InitShape, generate};
+use monoculus_core::vision::VisionParams;
+use monoculus_engine::{
+    SchedulerSpec, SequentialOrder, SightBackend, SimConfig, StopCriterion, StopSpec,
+};
+
+pub use locate::{line_of, line_of_offset};
+pub use spec::*;
+
+use crate::positions::read_positions;
+
+/// A bad config: where, which key, what is wrong. Displays as one line:
+/// `FILE:LINE: KEY: MESSAGE`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub struct ConfigError {
+    /// The config file (or `--set` for an override).
+    pub file: String,
+    /// 1-based line, when known.
+    pub line: Option<usize>,
+    /// Dotted key, when known.
+    pub key: Option<String>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if let Some(key) = &self.key {
+            write!(f, ": {key}")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+/// One swept key and its values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axis {
+    /// Dotted key.
+    pub path: String,
+    /// Its values, in order.
+    pub values: Vec<toml::Value>,
+}
+
+/// One cell: a single value for every key.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    /// Position in the experiment (first axis varies slowest).
+    pub index: usize,
+    /// Stable identity: `key=value` for every axis, joined by `;` (empty without axes).
+    pub key: String,
+    /// The value of each axis in this cell, rendered.
+    pub values: Vec<(String, String)>,
+    /// The typed configuration.
+    pub spec: RunSpec,
+    /// Positions read from `swarm.file`, if `init = "file"`.
+    pub file_positions: Option<Vec<DVec2>>,
+}
+
+/// A loaded, validated experiment.
+#[derive(Clone, Debug)]
+pub struct Experiment {
+    /// `name`.
+    pub name: String,
+    /// The seeds every cell runs.
+    pub seeds: Vec<u64>,
+    /// Swept keys.
+    pub axes: Vec<Axis>,
+    /// The cells.
+    pub cells: Vec<Cell>,
+    /// The config as resolved (defaults filled in, overrides applied), as TOML.
+    pub resolved: String,
+    /// Non-fatal findings (e.g. c < 2b).
+    pub warnings: Vec<String>,
+}
+
+/// One run of an experiment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct RunId {
+    /// Cell index.
+    pub cell: usize,
+    /// Seed.
+    pub seed: u64,
+}
+
+struct Source<'a> {
+    label: String,
+    text: &'a str,
+    overridden: Vec<String>,
+}
+
+impl Source<'_> {
+    fn error(&self, key: &str, message: impl Into<String>) -> ConfigError {
+        let message = message.into();
+        if self
+            .overridden
+            .iter()
+            .any(|o| key == o || key.starts_with(&format!("{o}.")))
+        {
+            return ConfigError {
+                file: "--set".into(),
+                line: None,
+                key: Some(key.to_string()),
+                message,
+            };
+        }
+        ConfigError {
+            file: self.label.clone(),
+            line: if key.is_empty() {
+                None
+            } else {
+                line_of(self.text, key)
+            },
+            key: (!key.is_empty()).then(|| key.to_string()),
+            message,
+        }
+    }
+}
+
+/// Applies one `KEY=VALUE` override to a table. VALUE is read as a TOML value
+/// (`3`, `[1, 2]`, `"x"`), or else as a bare string.
+pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<String, ConfigError> {
+    let bad = |m: String| ConfigError {
+        file: "--set".into(),
+        line: None,
+        key: None,
+        message: m,
+    };
+    let (key, value) = assignment
+        .split_once('=')
+        .ok_or_else(|| bad(format!("expected KEY=VALUE, got `{assignment}`")))?;
+    let key = key.trim();
+    if key.is_empty() || key.split('.').any(str::is_empty) {
+        return Err(bad(format!("bad key `{key}`")));
+    }
+    let value = match toml::from_str::<toml::Table>(&format!("v = {}", value.trim())) {
+        Ok(mut t) => t.remove("v").expect("parsed v"),
+        Err(_) => toml::Value::String(value.trim().to_string()),
+    };
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut t = table;
+    for part in &parts[..parts.len() - 1] {
+        let entry = t
+            .entry(part.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        t = entry.as_table_mut().ok_or_else(|| ConfigError {
+            file: "--set".into(),
+            line: None,
+            key: Some(key.to_string()),
+            message: format!("`{part}` is not a table"),
+        })?;
+    }
+    t.insert(parts[parts.len() - 1].to_string(), value);
+    Ok(key.to_string())
+}
+
+fn collect_axes(table: &toml::Table, prefix: &str, out: &mut Vec<Axis>) {
+    for (k, v) in table {
+        let path = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(t) => collect_axes(t, &path, out),
+            toml::Value::Array(a) if path != "seeds" => out.push(Axis {
+                path,
+                values: a.clone(),
+            }),
+            _ => {}
+        }
+    }
+}
+
+fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) {
+    let parts: Vec<&str> = path.split('.').collect();
+    let mut t = table;
+    for part in &parts[..parts.len() - 1] {
+        t = t
+            .get_mut(*part)
+            .and_then(toml::Value::as_table_mut)
+            .expect("axis path exists");
+    }
+    t.insert(parts[parts.len() - 1].to_string(), value);
+}
+
+fn render(value: &toml::Value) -> String {
+    match value {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+fn typed(table: toml::Table, src: &Source<'_>) -> Result<RunSpec, ConfigError> {
+    serde_path_to_error::deserialize::<_, RunSpec>(toml::Value::Table(table)).map_err(|e| {
+        let mut key = e.path().to_string();
+        if key == "." {
+            key.clear();
+        }
+        let message = e.inner().message().to_string();
+        for marker in ["unknown field `", "missing field `"] {
+            if let Some(rest) = message.split(marker).nth(1)
+                && let Some(field) = rest.split('`').next()
+            {
+                let parent = key
+                    .strip_suffix(&format!(".{field}"))
+                    .unwrap_or(&key)
+                    .to_string();
+                let parent = if parent == field {
+                    String::new()
+                } else {
+                    parent
+                };
+                key = if parent.is_empty() {
+                    field.to_string()
+                } else {
+                    format!("{parent}.{field}")
+                };
+            }
+        }
+        let message = message.replace(", expected one of", "; expected one of");
+        src.error(&key, message)
+    })
+}
+
+impl Experiment {
+    /// Loads and validates the config at `path`, with `--set` overrides.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Experiment, ConfigError> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+            file: label.clone(),
+            line: None,
+            key: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Self::parse(&text, &label, &base, overrides)
+    }
+
+    /// Parses a config from its text; `label` names it in errors, `base` resolves
+    /// relative file paths.
+    pub fn parse(
+        text: &str,
+        label: &str,
+        base: &Path,
+        overrides: &[String],
+    ) -> Result<Experiment, ConfigError> {
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| ConfigError {
+            file: label.to_string(),
+            line: e.span().map(|s| line_of_offset(text, s.start)),
+            key: None,
+            message: e.message().trim().to_string(),
+        })?;
+        let mut src = Source {
+            label: label.to_string(),
+            text,
+            overridden: Vec::new(),
+        };
+        for o in overrides {
+            src.overridden.push(apply_override(&mut table, o)?);
+        }
+        let mut axes = Vec::new();
+        collect_axes(&table, "", &mut axes);
+        if let Some(empty) = axes.iter().find(|a| a.values.is_empty()) {
+            return Err(src.error(
+                &empty.path,
+                "empty list: a swept key needs at least one value",
+            ));
+        }
+        let count: usize = axes.iter().map(|a| a.values.len()).product();
+        let mut cells = Vec::with_capacity(count);
+        let mut warnings = Vec::new();
+        let mut files: HashMap<PathBuf, Vec<DVec2>> = HashMap::new();
+        for index in 0..count {
+            let mut rest = index;
+            let mut chosen = vec![0; axes.len()];
+            for (a, axis) in axes.iter().enumerate().rev() {
+                chosen[a] = rest % axis.values.len();
+                rest /= axis.values.len();
+            }
+            let mut cell_table = table.clone();
+            let mut values = Vec::with_capacity(axes.len());
+            for (axis, &c) in axes.iter().zip(&chosen) {
+                set_path(&mut cell_table, &axis.path, axis.values[c].clone());
+                values.push((axis.path.clone(), render(&axis.values[c])));
+            }
+            let spec = typed(cell_table, &src)?;
+            let file_positions = validate(&spec, &src, base, &mut files, &mut warnings)?;
+            let key = values
+                .iter()
+                .map(|(k, v)| format!("{k}={v}"))
+                .collect::<Vec<_>>()
+                .join(";");
+            cells.push(Cell {
+                index,
+                key,
+                values,
+                spec,
+                file_positions,
+            });
+        }
+        let first = &cells[0].spec;
+        let seeds = first.seeds.to_vec();
+        let mut resolved = toml::Table::try_from(first).expect("a RunSpec serialises");
+        for axis in &axes {
+            set_path(
+                &mut resolved,
+                &axis.path,
+                toml::Value::Array(axis.values.clone()),
+            );
+        }
+        warnings.sort();
+        warnings.dedup();
+        Ok(Experiment {
+            name: first.name.clone(),
+            seeds,
+            axes,
+            cells,
+            resolved: toml::to_string(&resolved).expect("a table serialises"),
+            warnings,
+        })
+    }
+
+    /// Every run, cell-major then by seed.
+    pub fn runs(&self) -> Vec<RunId> {
+        self.cells
+            .iter()
+            .flat_map(|c| {
+                self.seeds.iter().map(move |&seed| RunId {
+                    cell: c.index,
+                    seed,
+                })
+            })
+            .collect()
+    }
+}
+
+fn validate(
+    spec: &RunSpec,
+    src: &Source<'_>,
+    base: &Path,
+    files: &mut HashMap<PathBuf, Vec<DVec2>>,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Vec<DVec2>>, ConfigError> {
+    let err = |key: &str, m: String| Err(src.error(key, m));
+    match &spec.seeds {
+        Seeds::Count(0) => return err("seeds", "must be at least 1".into()),
+        Seeds::List(v) if v.is_empty() => return err("seeds", "the list of seeds is empty".into()),
+        _ => {}
+    }
+    let s = &spec.swarm;
+    if s.dim != 2 {
+        return err(
+            "swarm.dim",
+            format!(
+                "dimension {} is not supported; monoculus simulates the plane (dim = 2)",
+                s.dim
+            ),
+        );
+    }
+    if !(s.side > 0.0 && s.side.is_finite()) {
+        return err("swarm.side", format!("must be positive, got {}", s.side));
+    }
+    if s.clusters == 0 {
+        return err("swarm.clusters", "must be at least 1".into());
+    }
+    if let Some(sp) = s.spread
+        && !(sp >= 0.0 && sp.is_finite())
+    {
+        return err("swarm.spread", format!("must be non-negative, got {sp}"));
+    }
+    let mut file_positions = None;
+    if s.init == InitKind::File {
+        let Some(file) = &s.file else {
+            return err(
+                "swarm.file",
+                "init = \"file\" needs swarm.file, a CSV of positions".into(),
+            );
+        };
+        let path = base.join(file);
+        let pts = match files.get(&path) {
+            Some(p) => p.clone(),
+            None => {
+                let p =
+                    read_positions(&path).map_err(|e| src.error("swarm.file", e.to_string()))?;
+                files.insert(path.clone(), p.clone());
+                p
+            }
+        };
+        if let Some(n) = s.n
+            && n != pts.len()
+        {
+            return err(
+                "swarm.n",
+                format!("n = {n} but {} has {} robots", path.display(), pts.len()),
+            );
+        }
+        file_positions = Some(pts);
+    } else {
+        match s.n {
+            None => return err("swarm.n", "missing: the number of robots".into()),
+            Some(0) => return err("swarm.n", "must be at least 1".into()),
+            _ => {}
+        }
+    }
+    let a = &spec.algorithm;
+    if !(a.step > 0.0 && a.step.is_finite()) {
+        return err(
+            "algorithm.step",
+            format!("must be positive, got {}", a.step),
+        );
+    }
+    if !(a.locality > 0.0 && a.locality.is_finite()) {
+        return err(
+            "algorithm.locality",
+            format!("must be positive, got {}", a.locality),
+        );
+    }
+    let kind = algorithm_kind(a.name);
+    if kind.needs_locality_at_least_twice_step() && a.locality < 2.0 * a.step {
+        let line = line_of(src.text, "algorithm.locality")
+            .map(|l| format!(":{l}"))
+            .unwrap_or_default();
+        warnings.push(format!(
+            "{}{line}: algorithm.locality: c = {} < 2b = {}: the paper's convergence guarantees for {} need c >= 2b",
+            src.label,
+            a.locality,
+            2.0 * a.step,
+            kind.name()
+        ));
+    }
+    let v = &spec.vision;
+    for (key, value) in [
+        ("vision.eps_pos", v.eps_pos),
+        ("vision.eps_ang", Some(v.eps_ang)),
+        ("vision.eps_axis", v.eps_axis),
+    ] {
+        if let Some(x) = value
+            && !(x >= 0.0 && x.is_finite())
+        {
+            return err(key, format!("must be non-negative, got {x}"));
+        }
+    }
+    let sc = &spec.scheduler;
+    if !(sc.p > 0.0 && sc.p <= 1.0) {
+        return err("scheduler.p", format!("must be in (0, 1], got {}", sc.p));
+    }
+    Ok(file_positions)
+}
+
+/// The engine's algorithm for a config name.
+pub fn algorithm_kind(name: AlgorithmName) -> AlgorithmKind {
+    match name {
+        AlgorithmName::ConvergeLocality => AlgorithmKind::ConvergeLocality,
+        AlgorithmName::ConvergeQuadrant => AlgorithmKind::ConvergeQuadrant,
+        AlgorithmName::ConvergeQuadrantTermination => AlgorithmKind::ConvergeQuadrantTermination,
+        AlgorithmName::CenterOfGravity => AlgorithmKind::CenterOfGravity,
+        AlgorithmName::Median => AlgorithmKind::Median,
+        AlgorithmName::AngleBisector => AlgorithmKind::AngleBisector,
+    }
+}
+
+impl Cell {
+    /// The algorithm.
+    pub fn algorithm(&self) -> AlgorithmKind {
+        algorithm_kind(self.spec.algorithm.name)
+    }
+
+    /// Number of robots.
+    pub fn n(&self) -> usize {
+        self.file_positions
+            .as_ref()
+            .map_or_else(|| self.spec.swarm.n.unwrap_or(0), Vec::len)
+    }
+
+    /// The stop criterion in force.
+    pub fn criterion(&self) -> StopCriterion {
+        match self.spec.stop.criterion {
+            CriterionName::Default => StopCriterion::default_for(self.algorithm()),
+            CriterionName::Quiescent => StopCriterion::Quiescent,
+            CriterionName::Diameter => StopCriterion::Diameter,
+            CriterionName::QuiescentOrDiameter => StopCriterion::QuiescentOrDiameter,
+            CriterionName::Box => StopCriterion::Box,
+        }
+    }
+
+    /// The engine configuration for `seed`.
+    pub fn sim_config(&self, seed: u64) -> SimConfig {
+        let a = &self.spec.algorithm;
+        let v = &self.spec.vision;
+        let defaults = VisionParams::for_step(a.step);
+        let sc = &self.spec.scheduler;
+        SimConfig {
+            algorithm: AlgorithmParams {
+                kind: self.algorithm(),
+                step: a.step,
+                locality: a.locality,
+            },
+            vision: VisionParams {
+                eps_pos: v.eps_pos.unwrap_or(defaults.eps_pos),
+                eps_ang: v.eps_ang,
+                eps_axis: v.eps_axis.unwrap_or(defaults.eps_axis),
+            },
+            backend: match v.backend {
+                BackendName::Index => SightBackend::Index,
+                BackendName::Exact => SightBackend::Exact,
+            },
+            scheduler: match sc.kind {
+                SchedulerKind::Fsync => SchedulerSpec::Fsync,
+                SchedulerKind::Ssync => SchedulerSpec::Ssync {
+                    p: sc.p,
+                    fairness: sc.fairness,
+                },
+                SchedulerKind::Sequential => SchedulerSpec::Sequential {
+                    order: match sc.order {
+                        OrderName::RoundRobin => SequentialOrder::RoundRobin,
+                        OrderName::Random => SequentialOrder::Random,
+                    },
+                },
+            },
+            stop: StopSpec {
+                criterion: self.criterion(),
+                max_rounds: self.spec.stop.max_rounds,
+            },
+            seed,
+        }
+    }
+
+    /// The initial positions for `seed`.
+    pub fn initial_positions(&self, seed: u64) -> Vec<DVec2> {
+        if let Some(p) = &self.file_positions {
+            return p.clone();
+        }
+        let s = &self.spec.swarm;
+        let side = s.side;
+        let shape = match s.init {
+            InitKind::Square => InitShape::Square { side },
+            InitKind::Disc => InitShape::Disc { side },
+            InitKind::Line => InitShape::Line { side },
+            InitKind::Lattice => InitShape::Lattice { side },
+            InitKind::Clusters => InitShape::Clusters {
+                side,
+                clusters: s.clusters,
+                spread: s.spread.unwrap_or(side / 20.0),
+            },
+            InitKind::File => unreachable!("file positions are loaded at validation"),
+        };
+        generate(&shape, self.n(), seed)
+    }
+}

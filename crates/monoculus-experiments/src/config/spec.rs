@@ -1,0 +1,301 @@
+//! The typed form of one cell of an experiment: every field a single value.
+
+use serde::{Deserialize, Serialize};
+
+/// Which seeds every cell runs: `seeds = 100` (0..99) or `seeds = [3, 7]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Seeds {
+    /// Seeds 0..count.
+    Count(u64),
+    /// These seeds.
+    List(Vec<u64>),
+}
+
+impl Default for Seeds {
+    fn default() -> Self {
+        Seeds::Count(1)
+    }
+}
+
+impl Seeds {
+    /// The seeds, in order.
+    pub fn to_vec(&self) -> Vec<u64> {
+        match self {
+            Seeds::Count(n) => (0..*n).collect(),
+            Seeds::List(v) => v.clone(),
+        }
+    }
+}
+
+/// One run's configuration (one cell of a sweep), as in the TOML file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    /// Experiment name.
+    pub name: String,
+    /// Seeds of every cell. Default: one seed, 0.
+    #[serde(default)]
+    pub seeds: Seeds,
+    /// The robots.
+    pub swarm: SwarmSpec,
+    /// The algorithm.
+    pub algorithm: AlgorithmSpec,
+    /// Visibility tolerances.
+    #[serde(default)]
+    pub vision: VisionSpec,
+    /// The scheduler.
+    #[serde(default)]
+    pub scheduler: SchedulerConfig,
+    /// When to stop.
+    #[serde(default)]
+    pub stop: StopConfig,
+}
+
+/// Initial shape names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InitKind {
+    /// Uniform in a square of side `side`.
+    Square,
+    /// Uniform in a disc of diameter `side`.
+    Disc,
+    /// Uniform on a segment of length `side`.
+    Line,
+    /// A grid filling a square of side `side`.
+    Lattice,
+    /// Gaussian clusters.
+    Clusters,
+    /// Positions from the CSV file `file`.
+    File,
+}
+
+fn default_dim() -> usize {
+    2
+}
+fn default_side() -> f64 {
+    20.0
+}
+fn default_clusters() -> usize {
+    4
+}
+
+/// `[swarm]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwarmSpec {
+    /// Number of robots (optional with `init = "file"`, where the file decides).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub n: Option<usize>,
+    /// Dimension (2).
+    #[serde(default = "default_dim")]
+    pub dim: usize,
+    /// Initial shape.
+    pub init: InitKind,
+    /// Side length L of the square (diameter of the disc, length of the line). Default 20.
+    #[serde(default = "default_side")]
+    pub side: f64,
+    /// `clusters`: number of clusters. Default 4.
+    #[serde(default = "default_clusters")]
+    pub clusters: usize,
+    /// `clusters`: standard deviation of each cluster. Default side / 20.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spread: Option<f64>,
+    /// `file`: CSV of positions (header `x,y`), relative to the config file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+}
+
+/// Algorithm names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AlgorithmName {
+    /// SPEC 4.1.
+    ConvergeLocality,
+    /// SPEC 4.2.
+    ConvergeQuadrant,
+    /// SPEC 4.3.
+    ConvergeQuadrantTermination,
+    /// SPEC 4.4.
+    CenterOfGravity,
+    /// SPEC 4.4.
+    Median,
+    /// SPEC 4.4.
+    AngleBisector,
+}
+
+/// Target policies ("choose any").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TargetPolicy {
+    /// Uniformly at random among the eligible visible points.
+    #[default]
+    Random,
+}
+
+fn default_step() -> f64 {
+    1.0
+}
+fn default_locality() -> f64 {
+    2.0
+}
+
+/// `[algorithm]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AlgorithmSpec {
+    /// Which algorithm.
+    pub name: AlgorithmName,
+    /// Step length b. Default 1.
+    #[serde(default = "default_step")]
+    pub step: f64,
+    /// Locality constant c. Default 2.
+    #[serde(default = "default_locality")]
+    pub locality: f64,
+    /// Target policy. Default random.
+    #[serde(default)]
+    pub target: TargetPolicy,
+}
+
+/// Visibility backends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BackendName {
+    /// R-tree.
+    #[default]
+    Index,
+    /// Brute force, for cross-checking.
+    Exact,
+}
+
+fn default_eps_ang() -> f64 {
+    1e-9
+}
+
+/// `[vision]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VisionSpec {
+    /// Co-location tolerance. Default 1e-9 * step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eps_pos: Option<f64>,
+    /// Angular tolerance in radians. Default 1e-9.
+    #[serde(default = "default_eps_ang")]
+    pub eps_ang: f64,
+    /// OLA side tolerance. Default 1e-9 * step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eps_axis: Option<f64>,
+    /// `index` (R-tree, default) or `exact` (brute force).
+    #[serde(default)]
+    pub backend: BackendName,
+}
+
+impl Default for VisionSpec {
+    fn default() -> Self {
+        VisionSpec {
+            eps_pos: None,
+            eps_ang: default_eps_ang(),
+            eps_axis: None,
+            backend: BackendName::Index,
+        }
+    }
+}
+
+/// Scheduler names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SchedulerKind {
+    /// Fully synchronous.
+    #[default]
+    Fsync,
+    /// Semi-synchronous.
+    Ssync,
+    /// One robot per round.
+    Sequential,
+}
+
+/// Sequential orders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OrderName {
+    /// Robot round mod n.
+    #[default]
+    RoundRobin,
+    /// A random permutation per n rounds.
+    Random,
+}
+
+fn default_p() -> f64 {
+    0.5
+}
+
+/// `[scheduler]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SchedulerConfig {
+    /// `fsync` (default), `ssync`, `sequential`.
+    #[serde(default)]
+    pub kind: SchedulerKind,
+    /// SSYNC activation probability. Default 0.5.
+    #[serde(default = "default_p")]
+    pub p: f64,
+    /// SSYNC k-fairness: no robot waits more than this many rounds. Default: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fairness: Option<u32>,
+    /// Sequential order: `round_robin` (default) or `random`.
+    #[serde(default)]
+    pub order: OrderName,
+}
+
+impl Default for SchedulerConfig {
+    fn default() -> Self {
+        SchedulerConfig {
+            kind: SchedulerKind::Fsync,
+            p: default_p(),
+            fairness: None,
+            order: OrderName::RoundRobin,
+        }
+    }
+}
+
+/// Stop criterion names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CriterionName {
+    /// The algorithm's default (SPEC section 6).
+    #[default]
+    Default,
+    /// No robot would move.
+    Quiescent,
+    /// Diameter <= c.
+    Diameter,
+    /// Either.
+    QuiescentOrDiameter,
+    /// Bounding box <= 2b on every axis.
+    Box,
+}
+
+fn default_max_rounds() -> u64 {
+    100_000
+}
+
+/// `[stop]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StopConfig {
+    /// Criterion. Default: the algorithm's.
+    #[serde(default)]
+    pub criterion: CriterionName,
+    /// Round cap. Default 100000.
+    #[serde(default = "default_max_rounds")]
+    pub max_rounds: u64,
+}
+
+impl Default for StopConfig {
+    fn default() -> Self {
+        StopConfig {
+            criterion: CriterionName::Default,
+            max_rounds: default_max_rounds(),
+        }
+    }
+}

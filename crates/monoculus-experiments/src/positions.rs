@@ -1,0 +1,119 @@
+//! Positions CSV: header `x,y`, one robot per row.
+
+use std::path::Path;
+
+use glam::DVec2;
+
+/// A bad positions file.
+#[derive(Debug, thiserror::Error)]
+pub enum PositionsError {
+    /// The file cannot be opened or read.
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A line is malformed.
+    #[error("{path}:{line}: {message}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Reads a positions CSV (header with columns `x` and `y`, in any order; other columns
+/// are ignored).
+pub fn read_positions(path: &Path) -> Result<Vec<DVec2>, PositionsError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| PositionsError::Io {
+        path: name.clone(),
+        source,
+    })?;
+    parse_positions(&text, &name)
+}
+
+/// Parses a positions CSV from text; `name` labels errors.
+pub fn parse_positions(text: &str, name: &str) -> Result<Vec<DVec2>, PositionsError> {
+    let perr = |line: usize, message: String| PositionsError::Parse {
+        path: name.to_string(),
+        line,
+        message,
+    };
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let headers = reader
+        .headers()
+        .map_err(|e| perr(1, e.to_string()))?
+        .clone();
+    let col = |c: &str| headers.iter().position(|h| h == c);
+    let (Some(xi), Some(yi)) = (col("x"), col("y")) else {
+        return Err(perr(
+            1,
+            format!(
+                "header must name columns x and y, got `{}`",
+                headers.iter().collect::<Vec<_>>().join(",")
+            ),
+        ));
+    };
+    let mut out = Vec::new();
+    for record in reader.records() {
+        let record = record.map_err(|e| {
+            let line = e.position().map_or(0, |p| p.line() as usize);
+            perr(line, e.to_string())
+        })?;
+        let line = record.position().map_or(0, |p| p.line() as usize);
+        let get = |i: usize, c: &str| -> Result<f64, PositionsError> {
+            let field = record.get(i).unwrap_or("");
+            field
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    perr(
+                        line,
+                        format!("column {c}: `{field}` is not a finite number"),
+                    )
+                })
+        };
+        out.push(DVec2::new(get(xi, "x")?, get(yi, "y")?));
+    }
+    if out.is_empty() {
+        return Err(perr(1, "no robots".into()));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_and_reports_lines() {
+        let p = parse_positions("x,y\n1,2\n3.5, -4\n", "f.csv").unwrap();
+        assert_eq!(p, vec![DVec2::new(1.0, 2.0), DVec2::new(3.5, -4.0)]);
+        let e = parse_positions("x,y\n1,2\n3,abc\n", "f.csv")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "f.csv:3: column y: `abc` is not a finite number");
+        let e = parse_positions("a,b\n1,2\n", "f.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("f.csv:1: header must name columns x and y"),
+            "{e}"
+        );
+        assert!(
+            parse_positions("x,y\n", "f.csv")
+                .unwrap_err()
+                .to_string()
+                .contains("no robots")
+        );
+    }
+}

@@ -1,0 +1,98 @@
+//! `summary.csv`: one row per cell.
+
+use super::record::num;
+
+/// Per-cell accumulator.
+#[derive(Clone, Debug, Default)]
+pub struct CellStats {
+    /// Runs.
+    pub runs: usize,
+    /// Converged runs.
+    pub converged: usize,
+    rho: Vec<f64>,
+    tau: Vec<f64>,
+    rounds: Vec<f64>,
+}
+
+impl CellStats {
+    /// Adds one run; rho, tau and rounds count only for converged runs.
+    pub fn add(&mut self, rho: f64, tau: f64, rounds: f64, converged: bool) {
+        self.runs += 1;
+        if converged {
+            self.converged += 1;
+            if rho.is_finite() {
+                self.rho.push(rho);
+            }
+            if tau.is_finite() {
+                self.tau.push(tau);
+            }
+            self.rounds.push(rounds);
+        }
+    }
+}
+
+/// The q-quantile (0..=1) by linear interpolation between order statistics (numpy's
+/// default, "type 7"); NaN for no values.
+pub fn quantile(values: &[f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let h = (v.len() - 1) as f64 * q;
+    let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+    v[lo] + (h - lo as f64) * (v[hi] - v[lo])
+}
+
+/// Statistic columns of `summary.csv`.
+pub const SUMMARY_COLUMNS: [&str; 10] = [
+    "runs",
+    "converged",
+    "rho_median",
+    "rho_q1",
+    "rho_q3",
+    "tau_median",
+    "tau_q1",
+    "tau_q3",
+    "rounds_median",
+    "rounds_q3",
+];
+
+/// The header: parameters then statistics.
+pub fn summary_header(params: &[String]) -> Vec<String> {
+    let mut h = params.to_vec();
+    h.extend(SUMMARY_COLUMNS.iter().map(|c| c.to_string()));
+    h
+}
+
+/// One cell's row.
+pub fn summary_row(mut params: Vec<String>, s: &CellStats) -> Vec<String> {
+    params.extend([
+        s.runs.to_string(),
+        s.converged.to_string(),
+        num(quantile(&s.rho, 0.5)),
+        num(quantile(&s.rho, 0.25)),
+        num(quantile(&s.rho, 0.75)),
+        num(quantile(&s.tau, 0.5)),
+        num(quantile(&s.tau, 0.25)),
+        num(quantile(&s.tau, 0.75)),
+        num(quantile(&s.rounds, 0.5)),
+        num(quantile(&s.rounds, 0.75)),
+    ]);
+    params
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_match_numpy() {
+        let v = [3.0, 1.0, 4.0, 1.0, 5.0, 9.0, 2.0, 6.0];
+        // numpy.quantile(v, [0.25, 0.5, 0.75]) = [1.75, 3.5, 5.25]
+        assert_eq!(quantile(&v, 0.25), 1.75);
+        assert_eq!(quantile(&v, 0.5), 3.5);
+        assert_eq!(quantile(&v, 0.75), 5.25);
+        assert!(quantile(&[], 0.5).is_nan());
+    }
+}
