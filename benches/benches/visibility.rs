@@ -1,1 +1,96 @@
-fn main() {}
+//! Visibility queries, index building, one round per algorithm, one small paper run.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use monoculus_benches::{lattice, paper_config, unit_density};
+use monoculus_core::algorithms::AlgorithmKind;
+use monoculus_core::init::{InitShape, generate};
+use monoculus_core::vision::{Sight, VisionParams, visible_points_sweep_2d};
+use monoculus_engine::{IndexedSight, Simulation};
+use std::hint::black_box;
+
+fn queries(c: &mut Criterion) {
+    let mut g = c.benchmark_group("visibility");
+    for n in [1_000usize, 10_000, 100_000] {
+        for (shape, pts) in [("uniform", unit_density(n, 1)), ("lattice", lattice(n))] {
+            let sight = IndexedSight::new(pts.clone(), VisionParams::default());
+            let pairs: Vec<(usize, usize)> = (0..256)
+                .map(|k| ((k * 7919) % n, (k * 104_729 + 13) % n))
+                .collect();
+            g.bench_with_input(
+                BenchmarkId::new(format!("sees/{shape}"), n),
+                &pairs,
+                |b, pairs| b.iter(|| pairs.iter().filter(|&&(i, j)| sight.sees(i, j)).count()),
+            );
+            if n <= 10_000 {
+                g.bench_with_input(
+                    BenchmarkId::new(format!("sweep/{shape}"), n),
+                    &pts,
+                    |b, pts| {
+                        b.iter(|| {
+                            visible_points_sweep_2d(pts, n / 2, &VisionParams::default()).len()
+                        })
+                    },
+                );
+            }
+        }
+    }
+    g.finish();
+}
+
+fn index_build(c: &mut Criterion) {
+    let mut g = c.benchmark_group("index");
+    for n in [1_000usize, 10_000, 100_000] {
+        let pts = unit_density(n, 2);
+        g.bench_with_input(BenchmarkId::new("bulk_load", n), &pts, |b, pts| {
+            b.iter(|| IndexedSight::new(black_box(pts.clone()), VisionParams::default()))
+        });
+    }
+    g.finish();
+}
+
+fn one_round(c: &mut Criterion) {
+    let mut g = c.benchmark_group("round");
+    g.sample_size(10);
+    for kind in [
+        AlgorithmKind::ConvergeLocality,
+        AlgorithmKind::ConvergeQuadrant,
+    ] {
+        for n in [1_000usize, 10_000, 100_000] {
+            let pts = unit_density(n, 3);
+            g.bench_with_input(BenchmarkId::new(kind.name(), n), &pts, |b, pts| {
+                b.iter_batched(
+                    || Simulation::new(paper_config(kind, 3), pts.clone()).unwrap(),
+                    |mut sim| {
+                        sim.step();
+                        sim
+                    },
+                    criterion::BatchSize::LargeInput,
+                )
+            });
+        }
+    }
+    g.finish();
+}
+
+fn paper_run(c: &mut Criterion) {
+    let mut g = c.benchmark_group("paper_run");
+    g.sample_size(10);
+    let pts: Vec<glam::DVec2> = generate(&InitShape::Square { side: 20.0 }, 200, 4);
+    for kind in [
+        AlgorithmKind::ConvergeLocality,
+        AlgorithmKind::ConvergeQuadrant,
+    ] {
+        g.bench_with_input(BenchmarkId::new(kind.name(), 200), &pts, |b, pts| {
+            b.iter(|| {
+                Simulation::new(paper_config(kind, 4), pts.clone())
+                    .unwrap()
+                    .run()
+                    .rounds
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, queries, index_build, one_round, paper_run);
+criterion_main!(benches);

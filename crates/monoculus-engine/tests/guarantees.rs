@@ -233,7 +233,6 @@ fn schedulers_activate_as_specified() {
 
 #[test]
 fn ssync_fairness_bounds_waiting() {
-    use bevy_ecs::prelude::*;
     use monoculus_engine::components::Waiting;
     let mut cfg = common::config(
         AlgorithmKind::ConvergeQuadrant,

@@ -3,6 +3,7 @@
 mod check;
 mod look;
 mod run;
+mod table;
 mod trace;
 
 use std::path::PathBuf;
@@ -30,6 +31,8 @@ enum Command {
     Trace(trace::TraceArgs),
     /// What one robot sees in a configuration, as CSV on stdout.
     Look(look::LookArgs),
+    /// Tables of rho and tau (median [q1, q3]) per cell from results folders.
+    Table(table::TableArgs),
 }
 
 /// How a command failed: bad input (exit status 2) or anything else (1).
@@ -117,5 +120,6 @@ pub fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Check(a) => check::check(a),
         Command::Trace(a) => trace::trace(a),
         Command::Look(a) => look::look(a),
+        Command::Table(a) => table::table(a),
     }
 }

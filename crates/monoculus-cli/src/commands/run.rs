@@ -79,56 +79,10 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Prints the key columns of a summary.csv as an aligned table.
 fn print_summary(path: &std::path::Path) -> Result<(), Failure> {
-    let mut reader = csv::Reader::from_path(path).map_err(|e| Failure::Other(e.into()))?;
-    let header = reader
-        .headers()
-        .map_err(|e| Failure::Other(e.into()))?
-        .clone();
-    let want = [
-        "cell",
-        "algorithm",
-        "n",
-        "side",
-        "runs",
-        "converged",
-        "rho_median",
-        "rho_q1",
-        "rho_q3",
-        "tau_median",
-        "tau_q1",
-        "tau_q3",
-    ];
-    let idx: Vec<usize> = want
-        .iter()
-        .filter_map(|w| header.iter().position(|h| h == *w))
-        .collect();
-    let mut rows: Vec<Vec<String>> = vec![idx.iter().map(|&i| header[i].to_string()).collect()];
-    for r in reader.records() {
-        let r = r.map_err(|e| Failure::Other(e.into()))?;
-        rows.push(
-            idx.iter()
-                .map(|&i| {
-                    let v = &r[i];
-                    match v.parse::<f64>() {
-                        Ok(x) if v.contains('.') => format!("{x:.3}"),
-                        _ => v.to_string(),
-                    }
-                })
-                .collect(),
-        );
-    }
-    let widths: Vec<usize> = (0..idx.len())
-        .map(|c| rows.iter().map(|r| r[c].len()).max().unwrap_or(0))
-        .collect();
-    for r in rows {
-        let line: Vec<String> = r
-            .iter()
-            .zip(&widths)
-            .map(|(v, w)| format!("{v:>w$}"))
-            .collect();
-        println!("{}", line.join("  "));
-    }
+    print!(
+        "{}",
+        super::table::render(path, super::table::Format::Text)?
+    );
     Ok(())
 }

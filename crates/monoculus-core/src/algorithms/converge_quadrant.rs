@@ -36,9 +36,12 @@ pub(crate) fn along<P: Point>(axis: usize, side: Side) -> P {
     P::unit_axis(axis) * side.sign()
 }
 
-/// 1. exactly one point visible: move toward it; 2. |E| = 0: stay; 3. |E| = 1: move b
-/// along that axis toward the non-empty side; 4. |E| >= 2: move toward a random visible
-/// point in the closed orthant of the non-empty sides of E.
+/// The rules, in order:
+/// 1. exactly one point visible: move toward it;
+/// 2. |E| = 0: stay;
+/// 3. |E| = 1: move b along that axis toward the non-empty side;
+/// 4. |E| >= 2: move toward a random visible point in the closed orthant of the
+///    non-empty sides of E.
 pub fn decide<P: Point, S: Sight<P> + ?Sized>(
     obs: &OlaObservation<'_, P, S>,
     stream: &mut Stream,

@@ -1,0 +1,140 @@
+use std::path::{Path, PathBuf};
+
+use super::Failure;
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Aligned plain text.
+    Text,
+    /// A Markdown table.
+    Markdown,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct TableArgs {
+    /// Results folders (each with a summary.csv).
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "markdown")]
+    format: Format,
+}
+
+pub fn table(args: TableArgs) -> Result<(), Failure> {
+    for dir in &args.dirs {
+        let path = dir.join("summary.csv");
+        if !path.exists() {
+            return Err(Failure::Input(format!(
+                "{}: no summary.csv; run the experiment first",
+                dir.display()
+            )));
+        }
+        if args.format == Format::Markdown {
+            println!("**{}**\n", dir.display());
+        }
+        println!("{}", render(&path, args.format)?);
+    }
+    Ok(())
+}
+
+fn cell(v: &str, digits: usize) -> String {
+    v.parse::<f64>()
+        .map(|x| {
+            if x.is_nan() {
+                "-".into()
+            } else {
+                format!("{x:.digits$}")
+            }
+        })
+        .unwrap_or_else(|_| v.to_string())
+}
+
+/// The per-cell table of a summary.csv: parameters that vary or matter, then
+/// converged/runs and rho, tau and rounds as median [q1, q3].
+pub fn render(path: &Path, format: Format) -> Result<String, Failure> {
+    let bad = |e: csv::Error| Failure::Input(format!("{}: {e}", path.display()));
+    let mut reader = csv::Reader::from_path(path).map_err(bad)?;
+    let header = reader.headers().map_err(bad)?.clone();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| Failure::Input(format!("{}: no column {name}", path.display())))
+    };
+    let stat = [
+        "runs",
+        "converged",
+        "rho_median",
+        "rho_q1",
+        "rho_q3",
+        "tau_median",
+        "tau_q1",
+        "tau_q3",
+        "rounds_median",
+    ];
+    let stat_idx: Vec<usize> = stat.iter().map(|s| col(s)).collect::<Result<_, _>>()?;
+    let records: Vec<csv::StringRecord> =
+        reader.records().collect::<Result<_, _>>().map_err(bad)?;
+    // Parameter columns: the algorithm and scheduler always; others only if they vary.
+    let first_stat = stat_idx[0];
+    let params: Vec<usize> = (0..first_stat)
+        .filter(|&i| !matches!(&header[i], "name" | "cell"))
+        .filter(|&i| {
+            matches!(&header[i], "algorithm" | "n" | "side")
+                || records.iter().any(|r| r[i] != records[0][i])
+        })
+        .collect();
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    let mut head: Vec<String> = params.iter().map(|&i| header[i].to_string()).collect();
+    head.extend([
+        "converged".to_string(),
+        "rho median [q1, q3]".into(),
+        "tau median [q1, q3]".into(),
+        "rounds median".into(),
+    ]);
+    rows.push(head);
+    for r in &records {
+        let mut row: Vec<String> = params.iter().map(|&i| r[i].to_string()).collect();
+        let s = |k: usize| &r[stat_idx[k]];
+        row.push(format!("{}/{}", s(1), s(0)));
+        row.push(format!(
+            "{} [{}, {}]",
+            cell(s(2), 3),
+            cell(s(3), 3),
+            cell(s(4), 3)
+        ));
+        row.push(format!(
+            "{} [{}, {}]",
+            cell(s(5), 3),
+            cell(s(6), 3),
+            cell(s(7), 3)
+        ));
+        row.push(cell(s(8), 1));
+        rows.push(row);
+    }
+    let widths: Vec<usize> = (0..rows[0].len())
+        .map(|c| rows.iter().map(|r| r[c].len()).max().unwrap_or(0))
+        .collect();
+    let mut out = String::new();
+    for (k, r) in rows.iter().enumerate() {
+        let cells: Vec<String> = r
+            .iter()
+            .zip(&widths)
+            .map(|(v, w)| format!("{v:>w$}"))
+            .collect();
+        match format {
+            Format::Text => out.push_str(&format!("{}\n", cells.join("  "))),
+            Format::Markdown => {
+                out.push_str(&format!("| {} |\n", cells.join(" | ")));
+                if k == 0 {
+                    let rule: Vec<String> = widths
+                        .iter()
+                        .map(|w| format!("{}:", "-".repeat(w.saturating_sub(1).max(1))))
+                        .collect();
+                    out.push_str(&format!("| {} |\n", rule.join(" | ")));
+                }
+            }
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,318 @@
+//! The command line end to end: run, resume, shards, threads, check, trace, look.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_monoculus"))
+}
+
+fn run(args: &[&str]) -> Output {
+    let out = bin().args(args).output().expect("monoculus runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    out
+}
+
+fn ok(args: &[&str]) -> String {
+    let out = run(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+const SMALL: &str = r#"
+name = "small"
+seeds = 4
+
+[swarm]
+n = [6, 12]
+init = "square"
+side = 8.0
+
+[algorithm]
+name = ["converge_locality", "converge_quadrant"]
+
+[scheduler]
+kind = "fsync"
+"#;
+
+fn write_config(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("cfg.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// runs.csv as rows without the wall_ms column, sorted.
+fn rows_without_wall(dir: &Path) -> Vec<Vec<String>> {
+    let mut r = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let wall = h.iter().position(|c| c == "wall_ms").unwrap();
+    let mut rows: Vec<Vec<String>> = r
+        .records()
+        .map(|rec| {
+            rec.unwrap()
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| *i != wall)
+                .map(|(_, v)| v.to_string())
+                .collect()
+        })
+        .collect();
+    rows.sort();
+    rows
+}
+
+#[test]
+fn run_writes_the_contract_files_and_columns() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), SMALL);
+    let out = tmp.path().join("out");
+    ok(&["run", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let mut r = csv::Reader::from_path(out.join("runs.csv")).unwrap();
+    let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    for c in [
+        "name",
+        "algorithm",
+        "scheduler",
+        "n",
+        "dim",
+        "side",
+        "step",
+        "locality",
+        "seed",
+        "rounds",
+        "activations",
+        "moves",
+        "d_opt",
+        "d_max",
+        "rho",
+        "tau",
+        "converged",
+        "final_diameter",
+        "hull_area_initial",
+        "hull_area_final",
+        "hull_growth_rounds",
+        "wall_ms",
+    ] {
+        assert!(h.iter().any(|x| x == c), "runs.csv lacks {c}");
+    }
+    assert_eq!(r.records().count(), 16);
+    let mut s = csv::Reader::from_path(out.join("summary.csv")).unwrap();
+    let sh: Vec<String> = s.headers().unwrap().iter().map(String::from).collect();
+    for c in [
+        "runs",
+        "converged",
+        "rho_median",
+        "rho_q1",
+        "rho_q3",
+        "tau_median",
+        "tau_q1",
+        "tau_q3",
+        "rounds_median",
+    ] {
+        assert!(sh.iter().any(|x| x == c), "summary.csv lacks {c}");
+    }
+    assert_eq!(s.records().count(), 4);
+    let resolved = std::fs::read_to_string(out.join("config.toml")).unwrap();
+    assert!(
+        resolved.contains("max_rounds = 100000"),
+        "defaults are filled in: {resolved}"
+    );
+    assert!(resolved.contains("locality = 2.0"));
+}
+
+#[test]
+fn threads_do_not_change_results() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), &SMALL.replace("n = [6, 12]", "n = [6, 150]"));
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    ok(&[
+        "run",
+        cfg.to_str().unwrap(),
+        "--out",
+        a.to_str().unwrap(),
+        "--threads",
+        "1",
+    ]);
+    ok(&[
+        "run",
+        cfg.to_str().unwrap(),
+        "--out",
+        b.to_str().unwrap(),
+        "--threads",
+        "2",
+    ]);
+    assert_eq!(rows_without_wall(&a), rows_without_wall(&b));
+    assert_eq!(
+        std::fs::read_to_string(a.join("summary.csv")).unwrap(),
+        std::fs::read_to_string(b.join("summary.csv")).unwrap()
+    );
+}
+
+#[test]
+fn a_killed_sweep_resumes_and_force_starts_over() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), SMALL);
+    let out = tmp.path().join("out");
+    let c = cfg.to_str().unwrap();
+    let o = out.to_str().unwrap();
+    ok(&["run", c, "--out", o]);
+    let full = rows_without_wall(&out);
+    // Simulate a kill: keep the header and 5 rows, plus half of a sixth.
+    let text = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let cut = format!("{}\n{}", lines[..6].join("\n"), &lines[6][..10]);
+    std::fs::write(out.join("runs.csv"), cut).unwrap();
+    let stdout = ok(&["run", c, "--out", o]);
+    assert!(stdout.contains("ran 11 runs, 5 already done"), "{stdout}");
+    assert_eq!(rows_without_wall(&out), full);
+    let stdout = ok(&["run", c, "--out", o]);
+    assert!(stdout.contains("ran 0 runs, 16 already done"), "{stdout}");
+    let stdout = ok(&["run", c, "--out", o, "--force"]);
+    assert!(stdout.contains("ran 16 runs, 0 already done"), "{stdout}");
+    // A different experiment into the same folder is refused.
+    let other = run(&["run", c, "--out", o, "--set", "seeds=2"]);
+    assert_eq!(other.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&other.stderr)
+            .contains("config.toml: holds a different experiment")
+    );
+}
+
+#[test]
+fn shards_partition_the_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), SMALL);
+    let (whole, parts) = (tmp.path().join("whole"), tmp.path().join("parts"));
+    let c = cfg.to_str().unwrap();
+    ok(&["run", c, "--out", whole.to_str().unwrap()]);
+    let s0 = ok(&["run", c, "--out", parts.to_str().unwrap(), "--shard", "0/3"]);
+    assert!(s0.contains("ran 6 runs"), "{s0}");
+    ok(&["run", c, "--out", parts.to_str().unwrap(), "--shard", "1/3"]);
+    ok(&["run", c, "--out", parts.to_str().unwrap(), "--shard", "2/3"]);
+    assert_eq!(rows_without_wall(&whole), rows_without_wall(&parts));
+    assert_eq!(
+        std::fs::read_to_string(whole.join("summary.csv")).unwrap(),
+        std::fs::read_to_string(parts.join("summary.csv")).unwrap()
+    );
+}
+
+#[test]
+fn set_overrides_any_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), SMALL);
+    let out = ok(&[
+        "check",
+        cfg.to_str().unwrap(),
+        "--set",
+        "swarm.n=7",
+        "--set",
+        "scheduler.kind=ssync",
+    ]);
+    assert!(out.contains("2 cells x 4 seeds = 8 runs"), "{out}");
+    assert!(out.contains("ssync n=7"), "{out}");
+    let out = ok(&[
+        "check",
+        cfg.to_str().unwrap(),
+        "--set",
+        "stop.max_rounds=[10, 20]",
+    ]);
+    assert!(out.contains("8 cells x 4 seeds = 32 runs"), "{out}");
+}
+
+#[test]
+fn trace_writes_one_row_per_round() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), SMALL);
+    let out = tmp.path().join("trace.csv");
+    let c = cfg.to_str().unwrap();
+    let stdout = ok(&[
+        "trace",
+        c,
+        "--seed",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "swarm.n=9",
+        "--set",
+        "algorithm.name=converge_locality",
+        "--positions",
+    ]);
+    let rounds: usize = stdout
+        .split("rounds=")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let text = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        "round,activated,moving,hull_area,diameter,extent_x,extent_y"
+    );
+    assert_eq!(
+        lines.len(),
+        rounds + 2,
+        "header, round 0, then one row per round"
+    );
+    let areas: Vec<f64> = lines[1..]
+        .iter()
+        .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        areas.windows(2).all(|w| w[1] <= w[0] * (1.0 + 1e-9)),
+        "converge_locality never grows the hull"
+    );
+    let pos = std::fs::read_to_string(tmp.path().join("trace.positions.csv")).unwrap();
+    assert_eq!(pos.lines().count(), 1 + 9 * (rounds + 1));
+    // A sweep needs a cell.
+    let e = run(&["trace", c, "--seed", "1", "--out", out.to_str().unwrap()]);
+    assert_eq!(e.status.code(), Some(2));
+    ok(&[
+        "trace",
+        c,
+        "--seed",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--cell",
+        "3",
+    ]);
+}
+
+#[test]
+fn look_lists_visible_points() {
+    let tmp = tempfile::tempdir().unwrap();
+    let csv = tmp.path().join("pos.csv");
+    std::fs::write(&csv, "x,y\n0,0\n1,0\n3,0\n0,5\n0,5\n").unwrap();
+    let out = ok(&["look", csv.to_str().unwrap(), "--robot", "0"]);
+    assert_eq!(out, "index,far,dx,dy\n1,false,1,0\n3,true,0,1\n");
+    let out = ok(&[
+        "look",
+        csv.to_str().unwrap(),
+        "--robot",
+        "0",
+        "--locality",
+        "6",
+    ]);
+    assert_eq!(out, "index,far,dx,dy\n1,false,1,0\n3,false,0,1\n");
+    let out = ok(&[
+        "look",
+        csv.to_str().unwrap(),
+        "--robot",
+        "1",
+        "--model",
+        "ola",
+    ]);
+    assert_eq!(out.lines().next().unwrap(), "index,side_x,side_y,dx,dy");
+    assert_eq!(out.lines().count(), 4, "{out}");
+    assert!(out.contains("\n2,1,0,1,0\n"));
+}
