@@ -316,3 +316,23 @@ fn look_lists_visible_points() {
     assert_eq!(out.lines().count(), 4, "{out}");
     assert!(out.contains("\n2,1,0,1,0\n"));
 }
+
+#[test]
+fn table_summarises_results_folders() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), SMALL);
+    let out = tmp.path().join("out");
+    ok(&["run", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let md = ok(&["table", out.to_str().unwrap()]);
+    let lines: Vec<&str> = md.lines().filter(|l| l.starts_with('|')).collect();
+    assert_eq!(lines.len(), 2 + 4, "header, rule, one row per cell: {md}");
+    assert!(lines[0].contains("rho median [q1, q3]") && lines[0].contains("tau median [q1, q3]"));
+    assert!(
+        lines[2].contains("converge_locality") && lines[2].contains("4/4"),
+        "{md}"
+    );
+    let text = ok(&["table", out.to_str().unwrap(), "--format", "text"]);
+    assert!(!text.contains('|'));
+    let missing = run(&["table", tmp.path().to_str().unwrap()]);
+    assert_eq!(missing.status.code(), Some(2));
+}

@@ -1,5 +1,7 @@
 use std::path::{Path, PathBuf};
 
+use monoculus_experiments::results::SUMMARY_COLUMNS;
+
 use super::Failure;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,21 +63,13 @@ pub fn render(path: &Path, format: Format) -> Result<String, Failure> {
             .position(|h| h == name)
             .ok_or_else(|| Failure::Input(format!("{}: no column {name}", path.display())))
     };
-    let stat = [
-        "runs",
-        "converged",
-        "rho_median",
-        "rho_q1",
-        "rho_q3",
-        "tau_median",
-        "tau_q1",
-        "tau_q3",
-        "rounds_median",
-    ];
-    let stat_idx: Vec<usize> = stat.iter().map(|s| col(s)).collect::<Result<_, _>>()?;
+    let stat_idx: Vec<usize> = SUMMARY_COLUMNS
+        .iter()
+        .map(|s| col(s))
+        .collect::<Result<_, _>>()?;
     let records: Vec<csv::StringRecord> =
         reader.records().collect::<Result<_, _>>().map_err(bad)?;
-    // Parameter columns: the algorithm and scheduler always; others only if they vary.
+    // Parameter columns: algorithm, n and side always; the others only where they vary.
     let first_stat = stat_idx[0];
     let params: Vec<usize> = (0..first_stat)
         .filter(|&i| !matches!(&header[i], "name" | "cell"))

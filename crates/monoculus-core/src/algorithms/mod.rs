@@ -29,8 +29,9 @@ pub enum Decision<P> {
     StepAtMost(P, f64),
 }
 
-/// The algorithms (config `algorithm.name`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+/// The algorithms (config `algorithm.name`, in snake case as [`AlgorithmKind::name`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum AlgorithmKind {
     /// ConvergeLocality (LD), SPEC 4.1.
     ConvergeLocality,
@@ -183,5 +184,31 @@ fn to_global<P: Point>(decision: Decision<P>, step: f64, map: impl Fn(P) -> P) -
         Decision::Stay => None,
         Decision::Step(dir) => Some(map(dir) * step),
         Decision::StepAtMost(dir, dist) => Some(map(dir) * step.min(dist)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::AlgorithmKind;
+
+    #[derive(serde::Deserialize)]
+    struct Named {
+        name: AlgorithmKind,
+    }
+
+    #[test]
+    fn config_names_are_the_display_names() {
+        for kind in AlgorithmKind::ALL {
+            let parsed: Named = toml_like(kind.name());
+            assert_eq!(parsed.name, kind);
+        }
+    }
+
+    /// Deserialises `{ name = "<name>" }` through serde's value deserializer.
+    fn toml_like(name: &str) -> Named {
+        use serde::de::IntoDeserializer;
+        use serde::de::value::{Error, MapDeserializer};
+        let map = MapDeserializer::<_, Error>::new(std::iter::once(("name", name)));
+        serde::Deserialize::deserialize(map.into_deserializer()).unwrap()
     }
 }

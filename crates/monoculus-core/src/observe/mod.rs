@@ -77,6 +77,14 @@ pub(crate) fn count_visible_up_to<P: Point, S: Sight<P> + ?Sized>(
     (count, first)
 }
 
+/// The robot representing the only visible point from `me`, if exactly one is visible.
+pub(crate) fn sole_visible<P: Point, S: Sight<P> + ?Sized>(sight: &S, me: usize) -> Option<usize> {
+    match count_visible_up_to(sight, me, 2) {
+        (1, first) => first,
+        _ => None,
+    }
+}
+
 /// The unit direction from robot `me` to robot `j`, global frame.
 pub(crate) fn direction<P: Point, S: Sight<P> + ?Sized>(sight: &S, me: usize, j: usize) -> P {
     let pos = sight.positions();

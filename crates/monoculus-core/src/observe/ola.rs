@@ -1,6 +1,6 @@
 //! [`OlaObservation`]: the Orthogonal Line Agreement model.
 
-use super::{count_visible_up_to, direction, sample_visible_point};
+use super::{count_visible_up_to, direction, sample_visible_point, sole_visible};
 use crate::geometry::{AxisFrame, Point};
 use crate::rng::Stream;
 use crate::vision::Sight;
@@ -89,10 +89,7 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
 
     /// If exactly one point is visible, its direction.
     pub fn sole_visible(&self) -> Option<P> {
-        match count_visible_up_to(self.sight, self.me, 2) {
-            (1, Some(j)) => Some(self.local(j)),
-            _ => None,
-        }
+        sole_visible(self.sight, self.me).map(|j| self.local(j))
     }
 
     /// The direction of a uniformly random visible point in the closed orthant given by

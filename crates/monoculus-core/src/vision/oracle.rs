@@ -95,30 +95,13 @@ pub fn seen_sweep_2d(positions: &[DVec2], i: usize, v: &VisionParams) -> Vec<usi
     for s in 0..m {
         let (theta, _, j) = others[s];
         let q = positions[j];
-        let mut blocked = false;
         // Backwards first: in a group sharing one angle the nearer robots come first.
-        for step in 1..m {
-            let t = (s + m - step) % m;
-            if circ(others[t].0, theta) > window {
-                break;
-            }
-            if blocks(p, positions[others[t].2], q, v) {
-                blocked = true;
-                break;
-            }
-        }
-        if !blocked {
-            for step in 1..m {
-                let t = (s + step) % m;
-                if circ(others[t].0, theta) > window {
-                    break;
-                }
-                if blocks(p, positions[others[t].2], q, v) {
-                    blocked = true;
-                    break;
-                }
-            }
-        }
+        let blocked = [m - 1, 1].into_iter().any(|stride| {
+            (1..m)
+                .map(|step| &others[(s + stride * step) % m])
+                .take_while(|other| circ(other.0, theta) <= window)
+                .any(|other| blocks(p, positions[other.2], q, v))
+        });
         if !blocked {
             seen.push(j);
         }

@@ -5,13 +5,8 @@ use crate::IndexPoint;
 use crate::IndexedSight;
 use crate::resources::{Params, Positions, SightBackend, Snapshot, SnapshotSight};
 
-/// The Look: takes a snapshot of the configuration (and builds its index) unless the
-/// current one is still valid (nothing moved since).
-pub fn take_snapshot<P: IndexPoint>(
-    params: Res<Params>,
-    positions: Res<Positions<P>>,
-    mut snapshot: ResMut<Snapshot<P>>,
-) {
+/// Takes a new snapshot unless the current one still reflects `positions`.
+fn update<P: IndexPoint>(params: &Params, positions: &Positions<P>, snapshot: &mut Snapshot<P>) {
     if snapshot.sight.is_some() && snapshot.generation == positions.generation {
         return;
     }
@@ -23,19 +18,20 @@ pub fn take_snapshot<P: IndexPoint>(
     snapshot.generation = positions.generation;
 }
 
+/// The Look: takes a snapshot of the configuration (and builds its index) unless the
+/// current one is still valid (nothing moved since).
+pub fn take_snapshot<P: IndexPoint>(
+    params: Res<Params>,
+    positions: Res<Positions<P>>,
+    mut snapshot: ResMut<Snapshot<P>>,
+) {
+    update(&params, &positions, &mut snapshot);
+}
+
 /// [`take_snapshot`] outside the schedule (for the quiescence check).
 pub fn refresh_snapshot<P: IndexPoint>(world: &mut World) {
     let params = *world.resource::<Params>();
     world.resource_scope(|world, mut snapshot: Mut<Snapshot<P>>| {
-        let positions = world.resource::<Positions<P>>();
-        if snapshot.sight.is_some() && snapshot.generation == positions.generation {
-            return;
-        }
-        let points = positions.points.clone();
-        snapshot.sight = Some(match params.backend {
-            SightBackend::Index => SnapshotSight::Index(IndexedSight::new(points, params.vision)),
-            SightBackend::Exact => SnapshotSight::Exact(ExactSight::new(points, params.vision)),
-        });
-        snapshot.generation = positions.generation;
+        update(&params, world.resource::<Positions<P>>(), &mut snapshot);
     });
 }

@@ -432,7 +432,7 @@ fn validate(
             format!("must be positive, got {}", a.locality),
         );
     }
-    let kind = algorithm_kind(a.name);
+    let kind = a.name;
     if kind.needs_locality_at_least_twice_step() && a.locality < 2.0 * a.step {
         let line = line_of(src.text, "algorithm.locality")
             .map(|l| format!(":{l}"))
@@ -464,22 +464,10 @@ fn validate(
     Ok(file_positions)
 }
 
-/// The engine's algorithm for a config name.
-pub fn algorithm_kind(name: AlgorithmName) -> AlgorithmKind {
-    match name {
-        AlgorithmName::ConvergeLocality => AlgorithmKind::ConvergeLocality,
-        AlgorithmName::ConvergeQuadrant => AlgorithmKind::ConvergeQuadrant,
-        AlgorithmName::ConvergeQuadrantTermination => AlgorithmKind::ConvergeQuadrantTermination,
-        AlgorithmName::CenterOfGravity => AlgorithmKind::CenterOfGravity,
-        AlgorithmName::Median => AlgorithmKind::Median,
-        AlgorithmName::AngleBisector => AlgorithmKind::AngleBisector,
-    }
-}
-
 impl Cell {
     /// The algorithm.
     pub fn algorithm(&self) -> AlgorithmKind {
-        algorithm_kind(self.spec.algorithm.name)
+        self.spec.algorithm.name
     }
 
     /// Number of robots.

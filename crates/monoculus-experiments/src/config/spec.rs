@@ -1,5 +1,6 @@
 //! The typed form of one cell of an experiment: every field a single value.
 
+use monoculus_core::algorithms::AlgorithmKind;
 use serde::{Deserialize, Serialize};
 
 /// Which seeds every cell runs: `seeds = 100` (0..99) or `seeds = [3, 7]`.
@@ -106,24 +107,6 @@ pub struct SwarmSpec {
     pub file: Option<String>,
 }
 
-/// Algorithm names.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AlgorithmName {
-    /// SPEC 4.1.
-    ConvergeLocality,
-    /// SPEC 4.2.
-    ConvergeQuadrant,
-    /// SPEC 4.3.
-    ConvergeQuadrantTermination,
-    /// SPEC 4.4.
-    CenterOfGravity,
-    /// SPEC 4.4.
-    Median,
-    /// SPEC 4.4.
-    AngleBisector,
-}
-
 /// Target policies ("choose any").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -145,7 +128,7 @@ fn default_locality() -> f64 {
 #[serde(deny_unknown_fields)]
 pub struct AlgorithmSpec {
     /// Which algorithm.
-    pub name: AlgorithmName,
+    pub name: AlgorithmKind,
     /// Step length b. Default 1.
     #[serde(default = "default_step")]
     pub step: f64,
