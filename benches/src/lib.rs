@@ -31,11 +31,7 @@ pub fn lattice(n: usize) -> Vec<DVec2> {
 /// The paper's parameters (b = 1, c = 2), FSYNC, default stop criterion.
 pub fn paper_config(kind: AlgorithmKind, seed: u64) -> SimConfig {
     SimConfig {
-        algorithm: AlgorithmParams {
-            kind,
-            step: 1.0,
-            locality: 2.0,
-        },
+        algorithm: AlgorithmParams::new(kind, 1.0, 2.0),
         vision: VisionParams::for_step(1.0),
         backend: SightBackend::Index,
         scheduler: SchedulerSpec::Fsync,
@@ -44,5 +40,6 @@ pub fn paper_config(kind: AlgorithmKind, seed: u64) -> SimConfig {
             max_rounds: 1_000_000,
         },
         seed,
+        movement: monoculus_core::errors::MovementErrors::NONE,
     }
 }

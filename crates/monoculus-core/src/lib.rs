@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod algorithms;
+pub mod errors;
 pub mod geometry;
 pub mod init;
 pub mod metrics;

@@ -15,11 +15,7 @@ fn sight(pts: &[(f64, f64)]) -> ExactSight<DVec2> {
 }
 
 fn params(kind: AlgorithmKind) -> AlgorithmParams {
-    AlgorithmParams {
-        kind,
-        step: 1.0,
-        locality: 2.0,
-    }
+    AlgorithmParams::new(kind, 1.0, 2.0)
 }
 
 /// The displacements robot `i` chooses over many activations (different streams).

@@ -8,10 +8,11 @@
 //! ```
 //! use glam::DVec2;
 //! use monoculus_core::prelude::*;
+//! use monoculus_core::errors::MovementErrors;
 //! use monoculus_core::init::{InitShape, generate};
 //! use monoculus_engine::prelude::*;
 //!
-//! let algorithm = AlgorithmParams { kind: AlgorithmKind::ConvergeLocality, step: 1.0, locality: 2.0 };
+//! let algorithm = AlgorithmParams::new(AlgorithmKind::ConvergeLocality, 1.0, 2.0);
 //! let config = SimConfig {
 //!     algorithm,
 //!     vision: VisionParams::for_step(1.0),
@@ -19,6 +20,7 @@
 //!     scheduler: SchedulerSpec::Fsync,
 //!     stop: StopSpec { criterion: StopCriterion::default_for(algorithm.kind), max_rounds: 10_000 },
 //!     seed: 7,
+//!     movement: MovementErrors::NONE,
 //! };
 //! let start: Vec<DVec2> = generate(&InitShape::Square { side: 20.0 }, 50, 7);
 //! let outcome = Simulation::new(config, start).unwrap().run();
@@ -26,6 +28,7 @@
 //! assert_eq!(outcome.hull_growth_rounds, 0); // Lemma 2
 //! ```
 
+pub mod asynchrony;
 pub mod components;
 mod error;
 mod index;
@@ -35,6 +38,7 @@ mod simulation;
 mod stop;
 pub mod systems;
 
+pub use asynchrony::{AsyncSpec, AsyncStart, TickDist};
 pub use error::EngineError;
 pub use index::{IndexPoint, IndexedSight, Tube};
 pub use resources::SightBackend;
@@ -46,7 +50,7 @@ pub use systems::RoundSet;
 /// The most used items.
 pub mod prelude {
     pub use crate::{
-        IndexedSight, RunOutcome, SchedulerSpec, SequentialOrder, SightBackend, SimConfig,
-        Simulation, StopCriterion, StopSpec,
+        AsyncSpec, AsyncStart, IndexedSight, RunOutcome, SchedulerSpec, SequentialOrder,
+        SightBackend, SimConfig, Simulation, StopCriterion, StopSpec, TickDist,
     };
 }

@@ -2,6 +2,7 @@
 
 use bevy_ecs::prelude::*;
 use monoculus_core::algorithms::AlgorithmParams;
+use monoculus_core::errors::MovementErrors;
 use monoculus_core::vision::{ExactSight, VisionParams};
 
 use crate::{IndexPoint, IndexedSight, SchedulerSpec};
@@ -29,6 +30,8 @@ pub struct Params {
     pub scheduler: SchedulerSpec,
     /// The run's seed.
     pub seed: u64,
+    /// Movement errors.
+    pub movement: MovementErrors,
 }
 
 /// The current round number (rounds completed so far).
@@ -87,8 +90,11 @@ pub struct Tally {
     pub round_activations: u64,
     /// Robots that moved in the last round.
     pub round_moves: u64,
-    /// Rounds in which the hull area grew.
+    /// Rounds (ASYNC: ticks) in which the area of the hull of the positions grew.
     pub hull_growth_rounds: u64,
+    /// ASYNC: ticks in which the hull of the positions and of the destinations of
+    /// decided moves grew (the form in which Lemma 2 holds under ASYNC).
+    pub committed_hull_growth: u64,
 }
 
 /// The shape of the configuration, measured after every round.

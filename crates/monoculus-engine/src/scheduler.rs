@@ -28,6 +28,9 @@ pub enum SchedulerSpec {
         /// Which one.
         order: SequentialOrder,
     },
+    /// Continuous time in whole ticks: every robot cycles Idle -> Look -> Compute ->
+    /// Move with random durations; time is reported in epochs.
+    Async(crate::AsyncSpec),
 }
 
 impl SchedulerSpec {
@@ -37,6 +40,7 @@ impl SchedulerSpec {
             SchedulerSpec::Fsync => "fsync",
             SchedulerSpec::Ssync { .. } => "ssync",
             SchedulerSpec::Sequential { .. } => "sequential",
+            SchedulerSpec::Async(_) => "async",
         }
     }
 }

@@ -2,21 +2,25 @@
 
 use bevy_ecs::prelude::*;
 use monoculus_core::algorithms::{AlgorithmParams, RobotMemory};
+use monoculus_core::errors::MovementErrors;
 use monoculus_core::geometry::AxisFrame;
 use monoculus_core::metrics;
 use monoculus_core::rng::{Purpose, Stream};
 use monoculus_core::vision::{Sight, VisionParams};
 use rayon::prelude::*;
 
+use crate::asynchrony::{
+    self, AsyncClock, AsyncSet, Phase, RobotEntities, START, Timing, duration,
+};
 use crate::components::{Activated, Intent, Memory, Position, Robot, Waiting};
 use crate::resources::{
     Clock, Params, Positions, ScheduleState, Shape, SightBackend, Snapshot, SnapshotSight, Tally,
 };
 use crate::systems::{
     RoundSet, activate_robots, advance_clock, apply_moves, compute_intents, decide_one,
-    measure_shape, refresh_snapshot, take_snapshot,
+    measure_committed, measure_shape, refresh_snapshot, take_snapshot,
 };
-use crate::{EngineError, IndexPoint, SchedulerSpec, StopCriterion, StopSpec};
+use crate::{AsyncStart, EngineError, IndexPoint, SchedulerSpec, StopCriterion, StopSpec};
 
 /// Everything that defines a run besides the initial positions.
 #[derive(Clone, Copy, Debug)]
@@ -33,6 +37,8 @@ pub struct SimConfig {
     pub stop: StopSpec,
     /// The seed of every random stream of the run.
     pub seed: u64,
+    /// Movement errors (step-length factor, non-rigid moves).
+    pub movement: MovementErrors,
 }
 
 /// The state after a round, for traces.
@@ -79,10 +85,17 @@ pub struct RunOutcome {
     pub hull_initial: f64,
     /// Hull area (volume) at the end.
     pub hull_final: f64,
-    /// Rounds in which the hull area grew.
+    /// Rounds (ASYNC: ticks) in which the area of the hull of the positions grew.
     pub hull_growth_rounds: u64,
+    /// Rounds (ASYNC: ticks) in which the hull of the positions and the destinations
+    /// of decided moves grew (for the round schedulers: rounds in which a destination
+    /// lay outside the hull of the positions). Under ASYNC this is the hull that
+    /// Lemma 2 bounds; the hull of the positions alone can grow.
+    pub committed_hull_growth: u64,
     /// Termination algorithm: robots with all 2d bits set at the end.
     pub terminated: Option<u64>,
+    /// ASYNC: the tick at which the run stopped.
+    pub ticks: Option<u64>,
 }
 
 impl RunOutcome {
@@ -145,6 +158,7 @@ impl<P: IndexPoint> Simulation<P> {
             backend: config.backend,
             scheduler: config.scheduler,
             seed: config.seed,
+            movement: config.movement,
         };
         let shape = Shape::of(&initial);
         let hull_initial = shape.hull;
@@ -180,25 +194,73 @@ impl<P: IndexPoint> Simulation<P> {
             }
         }
         let mut schedule = Schedule::default();
-        schedule.configure_sets(
-            (
-                RoundSet::Activate,
-                RoundSet::Look,
-                RoundSet::Compute,
-                RoundSet::Move,
-                RoundSet::Measure,
-            )
-                .chain(),
-        );
-        schedule.add_systems((
-            activate_robots.in_set(RoundSet::Activate),
-            take_snapshot::<P>.in_set(RoundSet::Look),
-            compute_intents::<P>.in_set(RoundSet::Compute),
-            apply_moves::<P>.in_set(RoundSet::Move),
-            (measure_shape::<P>, advance_clock)
-                .chain()
-                .in_set(RoundSet::Measure),
-        ));
+        if let SchedulerSpec::Async(spec) = config.scheduler {
+            let entities: Vec<Entity> = {
+                let mut q = world.query::<(Entity, &Robot)>();
+                let mut v: Vec<(u32, Entity)> = q.iter(&world).map(|(e, r)| (r.index, e)).collect();
+                v.sort_unstable_by_key(|&(i, _)| i);
+                v.into_iter().map(|(_, e)| e).collect()
+            };
+            let mut clock = AsyncClock::new(initial.len());
+            clock.committed_hull = hull_initial;
+            for (i, &e) in entities.iter().enumerate() {
+                let until = match spec.start {
+                    AsyncStart::Together => 0,
+                    AsyncStart::Random => duration(&params, i as u32, 0, START, spec.idle),
+                };
+                clock.schedule(until, i as u32);
+                world.entity_mut(e).insert(Timing::<P> {
+                    phase: Phase::Idle,
+                    since: 0,
+                    until,
+                    cycle: 0,
+                    looked: 0,
+                    pending: None,
+                    target: initial[i],
+                });
+            }
+            world.insert_resource(clock);
+            world.insert_resource(RobotEntities(entities));
+            schedule.configure_sets(
+                (
+                    AsyncSet::Advance,
+                    AsyncSet::FinishMoves,
+                    AsyncSet::FinishComputes,
+                    AsyncSet::Look,
+                    AsyncSet::Account,
+                )
+                    .chain(),
+            );
+            schedule.add_systems((
+                asynchrony::advance.in_set(AsyncSet::Advance),
+                asynchrony::finish_moves::<P>.in_set(AsyncSet::FinishMoves),
+                asynchrony::finish_computes::<P>.in_set(AsyncSet::FinishComputes),
+                asynchrony::look::<P>.in_set(AsyncSet::Look),
+                asynchrony::account::<P>.in_set(AsyncSet::Account),
+            ));
+        } else {
+            schedule.configure_sets(
+                (
+                    RoundSet::Activate,
+                    RoundSet::Look,
+                    RoundSet::Compute,
+                    RoundSet::Move,
+                    RoundSet::Measure,
+                )
+                    .chain(),
+            );
+            schedule.add_systems((
+                activate_robots.in_set(RoundSet::Activate),
+                take_snapshot::<P>.in_set(RoundSet::Look),
+                compute_intents::<P>.in_set(RoundSet::Compute),
+                (measure_committed::<P>, apply_moves::<P>)
+                    .chain()
+                    .in_set(RoundSet::Move),
+                (measure_shape::<P>, advance_clock)
+                    .chain()
+                    .in_set(RoundSet::Measure),
+            ));
+        }
         Ok(Simulation {
             world,
             schedule,
@@ -226,7 +288,8 @@ impl<P: IndexPoint> Simulation<P> {
         &self.world
     }
 
-    /// Runs one round: Activate, Look, Compute, Move, Measure.
+    /// Runs one round (Activate, Look, Compute, Move, Measure), or under ASYNC one
+    /// event tick (Advance, FinishMoves, FinishComputes, Look, Account).
     pub fn step(&mut self) {
         self.schedule.run(&mut self.world);
     }
@@ -247,6 +310,11 @@ impl<P: IndexPoint> Simulation<P> {
             extents: &shape.extents,
             positions: self.positions(),
         }
+    }
+
+    fn memories(&mut self) -> Vec<(Entity, RobotMemory)> {
+        let mut q = self.world.query::<(Entity, &Memory)>();
+        q.iter(&self.world).map(|(e, m)| (e, m.0)).collect()
     }
 
     /// Whether no robot would move if activated now.
@@ -291,6 +359,15 @@ impl<P: IndexPoint> Simulation<P> {
             // Under FSYNC quiescence shows as a round in which nobody moves (see `run_with`).
             StopCriterion::Quiescent | StopCriterion::QuiescentOrDiameter if fsync => false,
             StopCriterion::Quiescent | StopCriterion::QuiescentOrDiameter => {
+                // Under ASYNC the configuration is still only while nobody is moving or
+                // about to move.
+                if self
+                    .world
+                    .get_resource::<AsyncClock>()
+                    .is_some_and(|c| c.in_motion > 0)
+                {
+                    return false;
+                }
                 let key = (
                     self.world.resource::<Positions<P>>().generation,
                     if self.config.algorithm.kind.has_memory() {
@@ -320,6 +397,9 @@ impl<P: IndexPoint> Simulation<P> {
     /// (round 0) and after every counted round.
     pub fn run_with(&mut self, mut on_round: impl FnMut(&RoundReport<'_, P>)) -> RunOutcome {
         on_round(&self.report(0));
+        if matches!(self.config.scheduler, SchedulerSpec::Async(_)) {
+            return self.run_async(on_round);
+        }
         let fsync = self.config.scheduler == SchedulerSpec::Fsync;
         let quiescence = self.config.stop.criterion.checks_quiescence();
         let mut rounds = 0u64;
@@ -331,17 +411,48 @@ impl<P: IndexPoint> Simulation<P> {
                 break false;
             }
             let before = *self.world.resource::<Tally>();
+            let check = fsync && quiescence;
+            let memories = if check && self.config.algorithm.kind.has_memory() {
+                self.memories()
+            } else {
+                Vec::new()
+            };
             self.step();
-            if fsync && quiescence && self.world.resource::<Tally>().round_moves == 0 {
+            if check && self.world.resource::<Tally>().round_moves == 0 {
                 // Nobody moved with everybody activated: the configuration before this
-                // round was quiescent. The round was the check, not a round of the run.
+                // round was quiescent. The round was the check, not a round of the run:
+                // its activations and the bits it set are undone.
                 *self.world.resource_mut::<Tally>() = before;
+                for (e, m) in memories {
+                    self.world.entity_mut(e).insert(Memory(m));
+                }
                 break true;
             }
             rounds += 1;
             on_round(&self.report(rounds));
         };
         self.outcome(rounds, converged)
+    }
+
+    /// ASYNC: event tick by event tick; the criterion is checked at the start, after
+    /// every tick at which a move ended, and (for quiescence) whenever nobody moves.
+    fn run_async(&mut self, mut on_round: impl FnMut(&RoundReport<'_, P>)) -> RunOutcome {
+        let converged = loop {
+            if self.criterion_holds() {
+                break true;
+            }
+            if self.world.resource::<AsyncClock>().epochs >= self.config.stop.max_rounds {
+                break false;
+            }
+            self.step();
+            let clock = self.world.resource::<AsyncClock>();
+            if clock.epoch_ended {
+                let epochs = clock.epochs;
+                on_round(&self.report(epochs));
+            }
+        };
+        let epochs = self.world.resource::<AsyncClock>().epochs;
+        self.outcome(epochs, converged)
     }
 
     fn outcome(&mut self, rounds: u64, converged: bool) -> RunOutcome {
@@ -366,7 +477,9 @@ impl<P: IndexPoint> Simulation<P> {
             hull_initial: self.hull_initial,
             hull_final: shape.hull,
             hull_growth_rounds: tally.hull_growth_rounds,
+            committed_hull_growth: tally.committed_hull_growth,
             terminated,
+            ticks: self.world.get_resource::<AsyncClock>().map(|c| c.tick),
         }
     }
 }

@@ -7,11 +7,7 @@ use monoculus_core::prelude::*;
 use monoculus_engine::prelude::*;
 
 pub fn config(kind: AlgorithmKind, scheduler: SchedulerSpec, seed: u64) -> SimConfig {
-    let algorithm = AlgorithmParams {
-        kind,
-        step: 1.0,
-        locality: 2.0,
-    };
+    let algorithm = AlgorithmParams::new(kind, 1.0, 2.0);
     SimConfig {
         algorithm,
         vision: VisionParams::for_step(1.0),
@@ -22,6 +18,7 @@ pub fn config(kind: AlgorithmKind, scheduler: SchedulerSpec, seed: u64) -> SimCo
             max_rounds: 20_000,
         },
         seed,
+        movement: monoculus_core::errors::MovementErrors::NONE,
     }
 }
 

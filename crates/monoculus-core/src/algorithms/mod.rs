@@ -12,6 +12,7 @@ mod termination;
 
 pub use memory::RobotMemory;
 
+use crate::errors::{ObservationErrors, Perception};
 use crate::geometry::{AxisFrame, Point};
 use crate::observe::{LdObservation, OlaObservation, PositionObservation};
 use crate::rng::Stream;
@@ -119,6 +120,20 @@ pub struct AlgorithmParams {
     pub step: f64,
     /// Locality constant c.
     pub locality: f64,
+    /// Observation errors (off: [`ObservationErrors::NONE`]).
+    pub errors: ObservationErrors,
+}
+
+impl AlgorithmParams {
+    /// Error-free parameters.
+    pub fn new(kind: AlgorithmKind, step: f64, locality: f64) -> Self {
+        AlgorithmParams {
+            kind,
+            step,
+            locality,
+            errors: ObservationErrors::NONE,
+        }
+    }
 }
 
 /// One activation of robot `robot`: returns its global displacement, or `None` to stay.
@@ -137,20 +152,13 @@ pub fn activate<P: Point, S: Sight<P> + ?Sized>(
     match params.kind.model() {
         Model::Ld | Model::Positions => {
             let frame = P::random_frame(stream);
+            let perception = Perception::new(params.errors, stream);
+            let ld =
+                || LdObservation::with_perception(sight, robot, frame, params.locality, perception);
             let decision = match params.kind {
-                AlgorithmKind::ConvergeLocality => converge_locality::decide(
-                    &LdObservation::new(sight, robot, frame, params.locality),
-                    stream,
-                ),
-                AlgorithmKind::Median => {
-                    median::decide(&LdObservation::new(sight, robot, frame, params.locality))
-                }
-                AlgorithmKind::AngleBisector => angle_bisector::decide(&LdObservation::new(
-                    sight,
-                    robot,
-                    frame,
-                    params.locality,
-                )),
+                AlgorithmKind::ConvergeLocality => converge_locality::decide(&ld(), stream),
+                AlgorithmKind::Median => median::decide(&ld()),
+                AlgorithmKind::AngleBisector => angle_bisector::decide(&ld()),
                 AlgorithmKind::CenterOfGravity => {
                     center_of_gravity::decide(&PositionObservation::new(sight, robot, frame))
                 }
@@ -158,24 +166,29 @@ pub fn activate<P: Point, S: Sight<P> + ?Sized>(
             };
             to_global(decision, b, |v| P::to_global(&frame, v))
         }
-        Model::Ola => match params.kind {
-            AlgorithmKind::ConvergeQuadrant => {
-                let frame = AxisFrame::random(P::DIM, stream);
-                let obs = OlaObservation::new(sight, robot, frame);
-                to_global(converge_quadrant::decide(&obs, stream), b, |v| {
-                    frame.to_global(v)
-                })
-            }
-            AlgorithmKind::ConvergeQuadrantTermination => {
-                let memory = memory.expect("the termination algorithm needs robot memory");
-                let frame = memory.frame;
-                let obs = OlaObservation::new(sight, robot, frame);
-                to_global(termination::decide(&obs, memory, stream), b, |v| {
-                    frame.to_global(v)
-                })
-            }
-            _ => unreachable!("model dispatch"),
-        },
+        Model::Ola => {
+            let (frame, memory) = match memory {
+                Some(m) if params.kind.has_memory() => (m.frame, Some(m)),
+                _ => (AxisFrame::random(P::DIM, stream), None),
+            };
+            let obs = OlaObservation::with_perception(
+                sight,
+                robot,
+                frame,
+                Perception::new(params.errors, stream),
+            );
+            let decision = match (params.kind, memory) {
+                (AlgorithmKind::ConvergeQuadrant, _) => converge_quadrant::decide(&obs, stream),
+                (AlgorithmKind::ConvergeQuadrantTermination, Some(memory)) => {
+                    termination::decide(&obs, memory, stream)
+                }
+                (AlgorithmKind::ConvergeQuadrantTermination, None) => {
+                    panic!("the termination algorithm needs robot memory")
+                }
+                _ => unreachable!("model dispatch"),
+            };
+            to_global(decision, b, |v| obs.to_global(v))
+        }
     }
 }
 

@@ -11,6 +11,10 @@ pub trait HullGeometry: Point {
     fn hull_measure(points: &[Self]) -> f64;
     /// The largest distance between two of the points; 0 for fewer than two.
     fn diameter(points: &[Self]) -> f64;
+    /// Both, computing the hull once.
+    fn hull_and_diameter(points: &[Self]) -> (f64, f64) {
+        (Self::hull_measure(points), Self::diameter(points))
+    }
 }
 
 /// The convex hull of a planar point set, counter-clockwise, without collinear
@@ -55,22 +59,31 @@ pub fn polygon_area(polygon: &[DVec2]) -> f64 {
     0.5 * twice.abs()
 }
 
+/// The diameter of a convex polygon, realised by two of its vertices. Hulls of random
+/// swarms are small (O(log n) vertices for a uniform square), so the quadratic scan is
+/// cheap.
+fn hull_diameter(hull: &[DVec2]) -> f64 {
+    let mut best: f64 = 0.0;
+    for i in 0..hull.len() {
+        for j in i + 1..hull.len() {
+            best = best.max(hull[i].distance_squared(hull[j]));
+        }
+    }
+    best.sqrt()
+}
+
 impl HullGeometry for DVec2 {
     fn hull_measure(points: &[Self]) -> f64 {
         polygon_area(&convex_hull_2d(points))
     }
 
     fn diameter(points: &[Self]) -> f64 {
+        hull_diameter(&convex_hull_2d(points))
+    }
+
+    fn hull_and_diameter(points: &[Self]) -> (f64, f64) {
         let hull = convex_hull_2d(points);
-        let mut best: f64 = 0.0;
-        // The diameter is realised by two hull vertices. Hulls of random swarms are
-        // small (O(log n) vertices for a uniform square), so the quadratic scan is cheap.
-        for i in 0..hull.len() {
-            for j in i + 1..hull.len() {
-                best = best.max(hull[i].distance_squared(hull[j]));
-            }
-        }
-        best.sqrt()
+        (polygon_area(&hull), hull_diameter(&hull))
     }
 }
 

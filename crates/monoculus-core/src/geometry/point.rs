@@ -69,6 +69,13 @@ pub trait Point:
     fn to_local(frame: &Self::Frame, v: Self) -> Self;
     /// Maps a local vector back to global coordinates.
     fn to_global(frame: &Self::Frame, v: Self) -> Self;
+    /// A rotation by a small random angle: normal with standard deviation `sigma`
+    /// (about a random axis in d = 3).
+    fn random_tilt(sigma: f64, stream: &mut Stream) -> Self::Frame;
+    /// The unit vector `dir` turned by a random angle of standard deviation `sigma`.
+    fn perturb_direction(dir: Self, sigma: f64, stream: &mut Stream) -> Self {
+        Self::to_global(&Self::random_tilt(sigma, stream), dir).normalized()
+    }
 }
 
 impl Point for DVec2 {
@@ -118,6 +125,9 @@ impl Point for DVec2 {
     }
     fn to_global(frame: &DMat2, v: Self) -> Self {
         *frame * v
+    }
+    fn random_tilt(sigma: f64, stream: &mut Stream) -> DMat2 {
+        DMat2::from_angle(sigma * stream.normal())
     }
 }
 
@@ -172,6 +182,15 @@ impl Point for DVec3 {
     }
     fn to_global(frame: &DMat3, v: Self) -> Self {
         *frame * v
+    }
+    fn random_tilt(sigma: f64, stream: &mut Stream) -> DMat3 {
+        let axis = DVec3::new(stream.normal(), stream.normal(), stream.normal());
+        let axis = if axis.length_squared() > 0.0 {
+            axis.normalize()
+        } else {
+            DVec3::Z
+        };
+        DMat3::from_axis_angle(axis, sigma * stream.normal())
     }
 }
 

@@ -1,6 +1,7 @@
 //! [`LdObservation`]: the Locality Detection model.
 
 use super::{count_visible_up_to, direction, sample_visible_point, sole_visible};
+use crate::errors::Perception;
 use crate::geometry::Point;
 use crate::rng::Stream;
 use crate::vision::Sight;
@@ -21,26 +22,45 @@ pub struct LdObservation<'a, P: Point, S: Sight<P> + ?Sized> {
     me: usize,
     frame: P::Frame,
     locality: f64,
+    perception: Perception,
 }
 
 impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
-    /// The view of robot `me` in the local `frame`, with locality constant `locality`.
+    /// The view of robot `me` in the local `frame`, with locality constant `locality`,
+    /// perceived without errors.
     pub fn new(sight: &'a S, me: usize, frame: P::Frame, locality: f64) -> Self {
+        Self::with_perception(sight, me, frame, locality, Perception::EXACT)
+    }
+
+    /// The same, perceived with observation errors.
+    pub fn with_perception(
+        sight: &'a S,
+        me: usize,
+        frame: P::Frame,
+        locality: f64,
+        perception: Perception,
+    ) -> Self {
         LdObservation {
             sight,
             me,
             frame,
             locality,
+            perception,
         }
     }
 
     fn local(&self, j: usize) -> P {
-        P::to_local(&self.frame, direction(self.sight, self.me, j))
+        P::to_local(
+            &self.frame,
+            self.perception
+                .direction(j, direction(self.sight, self.me, j)),
+        )
     }
 
     fn is_far(&self, j: usize) -> bool {
         let pos = self.sight.positions();
-        (pos[j] - pos[self.me]).length() > self.locality
+        self.perception
+            .far(j, (pos[j] - pos[self.me]).length(), self.locality)
     }
 
     /// The number of visible points, counted up to `limit`.
@@ -56,8 +76,13 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
     /// The direction of a uniformly random visible far point, if any.
     pub fn random_far(&self, stream: &mut Stream) -> Option<P> {
         let n = self.sight.len();
-        if self.sight.count_within(self.me, self.locality) + 1 >= n {
-            return None; // nobody is far
+        if self
+            .sight
+            .count_within(self.me, self.perception.far_threshold(self.locality))
+            + 1
+            >= n
+        {
+            return None; // nobody can be perceived far
         }
         let far = |j: usize| self.is_far(j);
         sample_visible_point(self.sight, self.me, &far, stream).map(|j| self.local(j))

@@ -1,6 +1,7 @@
 //! [`OlaObservation`]: the Orthogonal Line Agreement model.
 
 use super::{count_visible_up_to, direction, sample_visible_point, sole_visible};
+use crate::errors::Perception;
 use crate::geometry::{AxisFrame, Point};
 use crate::rng::Stream;
 use crate::vision::Sight;
@@ -42,17 +43,47 @@ pub struct OlaObservation<'a, P: Point, S: Sight<P> + ?Sized> {
     sight: &'a S,
     me: usize,
     frame: AxisFrame,
-    _point: std::marker::PhantomData<fn() -> P>,
+    perception: Perception,
+    /// The perceived tilt of the agreed axes (observation errors), if any.
+    tilt: Option<P::Frame>,
 }
 
 impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
-    /// The view of robot `me` in the local axis `frame`.
+    /// The view of robot `me` in the local axis `frame`, perceived without errors.
     pub fn new(sight: &'a S, me: usize, frame: AxisFrame) -> Self {
+        Self::with_perception(sight, me, frame, Perception::EXACT)
+    }
+
+    /// The same, perceived with observation errors: noisy directions and tilted axes.
+    pub fn with_perception(
+        sight: &'a S,
+        me: usize,
+        frame: AxisFrame,
+        perception: Perception,
+    ) -> Self {
         OlaObservation {
             sight,
             me,
             frame,
-            _point: std::marker::PhantomData,
+            perception,
+            tilt: perception.tilt::<P>(),
+        }
+    }
+
+    /// Maps a global vector into the robot's perceived (tilted) agreed axes.
+    fn perceived(&self, v: P) -> P {
+        match &self.tilt {
+            Some(t) => P::to_local(t, v),
+            None => v,
+        }
+    }
+
+    /// Maps a local decision back to the global frame (through the tilt, if any).
+    pub fn to_global(&self, local: P) -> P {
+        let v = self.frame.to_global(local);
+        match &self.tilt {
+            Some(t) => P::to_global(t, v),
+            None => v,
         }
     }
 
@@ -62,19 +93,34 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
     }
 
     fn local(&self, j: usize) -> P {
-        self.frame.to_local(direction(self.sight, self.me, j))
+        let dir = self
+            .perception
+            .direction(j, direction(self.sight, self.me, j));
+        self.frame.to_local(self.perceived(dir))
     }
 
     /// Whether a robot lies beyond the hyperplane through this robot normal to local
     /// axis `axis`, on `side`, by more than `eps_axis`. A robot in that open half-space
     /// has a visible robot there too (its nearest blocker lies on the same side), so
     /// this is what the robot sees; it is read off the swarm's bounding box in O(1).
+    ///
+    /// With tilted axes the half-space is no longer axis-aligned and the robots are
+    /// scanned (O(n)).
     pub fn side_occupied(&self, axis: usize, side: Side) -> bool {
+        let eps = self.sight.vision().eps_axis;
+        if let Some(t) = &self.tilt {
+            let normal = P::to_global(
+                t,
+                P::unit_axis(self.frame.global_axis(axis)) * (self.frame.sign(axis) * side.sign()),
+            );
+            let pos = self.sight.positions();
+            let p = pos[self.me];
+            return pos.iter().any(|&q| (q - p).dot(normal) > eps);
+        }
         let a = self.frame.global_axis(axis);
         let dir = side.sign() * self.frame.sign(axis); // +1: toward larger global coordinate
         let p = self.sight.positions()[self.me].axis(a);
         let (lo, hi) = self.sight.bounds();
-        let eps = self.sight.vision().eps_axis;
         if dir > 0.0 {
             hi.axis(a) > p + eps
         } else {
@@ -104,7 +150,7 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
         let p = pos[self.me];
         let eps = self.sight.vision().eps_axis;
         let inside = |j: usize| {
-            let d = pos[j] - p;
+            let d = self.perceived(pos[j] - p);
             constraints
                 .iter()
                 .all(|&(k, side)| side.sign() * self.frame.local_coord(d, k) >= -eps)

@@ -1,6 +1,7 @@
 //! [`IndexedSight`]: the engine's [`Sight`], answered through an rstar R-tree.
 
 use std::any::Any;
+use std::sync::OnceLock;
 
 use glam::DVec2;
 use monoculus_core::metrics::bounds;
@@ -20,27 +21,35 @@ use super::{IndexPoint, Tube};
 ///   one tube query per robot otherwise.
 pub struct IndexedSight<P: IndexPoint> {
     positions: Vec<P>,
-    tree: RTree<GeomWithData<P::Array, u32>>,
+    /// Built on the first visibility question: many activations (OLA inner robots)
+    /// need only the bounding box.
+    tree: OnceLock<RTree<GeomWithData<P::Array, u32>>>,
     vision: VisionParams,
     bounds: (P, P),
 }
 
 impl<P: IndexPoint> IndexedSight<P> {
-    /// Builds the index over `positions` (bulk load, O(n log n)).
+    /// A sight over `positions`; the index is bulk-loaded (O(n log n)) when first needed.
     pub fn new(positions: Vec<P>, vision: VisionParams) -> Self {
-        let items: Vec<GeomWithData<P::Array, u32>> = positions
-            .iter()
-            .enumerate()
-            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
-            .collect();
-        let tree = RTree::bulk_load(items);
         let bounds = bounds(&positions);
         IndexedSight {
             positions,
-            tree,
+            tree: OnceLock::new(),
             vision,
             bounds,
         }
+    }
+
+    fn tree(&self) -> &RTree<GeomWithData<P::Array, u32>> {
+        self.tree.get_or_init(|| {
+            let items: Vec<GeomWithData<P::Array, u32>> = self
+                .positions
+                .iter()
+                .enumerate()
+                .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
+                .collect();
+            RTree::bulk_load(items)
+        })
     }
 
     /// Gives the positions back (to reuse the allocation).
@@ -68,10 +77,13 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
             return false;
         }
         let tube = Tube::new(p, q, self.vision.eps_ang);
-        !self.tree.locate_with_selection_function(tube).any(|leaf| {
-            let k = leaf.data as usize;
-            k != i && k != j && blocks(p, self.positions[k], q, &self.vision)
-        })
+        !self
+            .tree()
+            .locate_with_selection_function(tube)
+            .any(|leaf| {
+                let k = leaf.data as usize;
+                k != i && k != j && blocks(p, self.positions[k], q, &self.vision)
+            })
     }
 
     fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
@@ -79,7 +91,7 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
         // Ask the tree for a slightly larger radius, then decide with the same test as
         // the oracle, so both agree on points at the boundary.
         let r2 = radius * radius * (1.0 + 1e-12) + f64::MIN_POSITIVE;
-        for leaf in self.tree.locate_within_distance(p.to_array(), r2) {
+        for leaf in self.tree().locate_within_distance(p.to_array(), r2) {
             let k = leaf.data as usize;
             if k != i && (self.positions[k] - p).length() <= radius {
                 f(k);
@@ -90,7 +102,7 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
         let p = self.positions[i].to_array();
         Box::new(
-            self.tree
+            self.tree()
                 .nearest_neighbor_iter(p)
                 .map(|leaf| leaf.data as usize)
                 .filter(move |&k| k != i),

@@ -44,6 +44,9 @@ pub fn activate_robots(
                 waiting.0 = if active.0 { 0 } else { waiting.0 + 1 };
             }
         }
+        SchedulerSpec::Async(_) => {
+            unreachable!("round systems do not run under the async scheduler")
+        }
         SchedulerSpec::Sequential { order } => {
             let slot = (round % n as u64) as usize;
             let pick = match order {

@@ -20,6 +20,18 @@ pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized>(
     activate(&params.algorithm, sight, robot, memory, &mut stream)
 }
 
+/// The displacement a robot actually makes for the decided displacement `d` in its
+/// activation `round` (movement errors; identity when they are off).
+pub fn realise<P: IndexPoint>(params: &Params, robot: usize, round: u64, d: P) -> P {
+    if !params.movement.any() {
+        return d;
+    }
+    params.movement.apply(
+        d,
+        &mut Stream::keyed(params.seed, Purpose::Error, robot as u64, round),
+    )
+}
+
 type RobotItem<'a, P> = (
     &'a Robot,
     &'a Activated,
@@ -38,13 +50,9 @@ fn compute_all<P: IndexPoint, S: Sight<P>>(
         .with_min_len(32)
         .for_each(|(robot, active, intent, memory)| {
             intent.0 = if active.0 {
-                decide_one(
-                    params,
-                    sight,
-                    robot.index as usize,
-                    round,
-                    memory.as_mut().map(|m| &mut m.0),
-                )
+                let i = robot.index as usize;
+                decide_one(params, sight, i, round, memory.as_mut().map(|m| &mut m.0))
+                    .map(|d| realise(params, i, round, d))
             } else {
                 None
             };

@@ -5,16 +5,20 @@ use crate::IndexPoint;
 use crate::IndexedSight;
 use crate::resources::{Params, Positions, SightBackend, Snapshot, SnapshotSight};
 
+/// A sight over `points` with the configured backend.
+pub fn build_sight<P: IndexPoint>(params: &Params, points: Vec<P>) -> SnapshotSight<P> {
+    match params.backend {
+        SightBackend::Index => SnapshotSight::Index(IndexedSight::new(points, params.vision)),
+        SightBackend::Exact => SnapshotSight::Exact(ExactSight::new(points, params.vision)),
+    }
+}
+
 /// Takes a new snapshot unless the current one still reflects `positions`.
 fn update<P: IndexPoint>(params: &Params, positions: &Positions<P>, snapshot: &mut Snapshot<P>) {
     if snapshot.sight.is_some() && snapshot.generation == positions.generation {
         return;
     }
-    let points = positions.points.clone();
-    snapshot.sight = Some(match params.backend {
-        SightBackend::Index => SnapshotSight::Index(IndexedSight::new(points, params.vision)),
-        SightBackend::Exact => SnapshotSight::Exact(ExactSight::new(points, params.vision)),
-    });
+    snapshot.sight = Some(build_sight(params, positions.points.clone()));
     snapshot.generation = positions.generation;
 }
 

@@ -1,6 +1,7 @@
 use bevy_ecs::prelude::*;
 
 use crate::IndexPoint;
+use crate::components::{Activated, Intent, Robot};
 use crate::resources::{Clock, Positions, Shape, Tally};
 
 /// Relative tolerance for "the hull grew": moving inside the hull changes its area only
@@ -24,6 +25,31 @@ pub fn measure_shape<P: IndexPoint>(
     *shape = measured;
 }
 
+/// Before the moves: counts the round if a decided destination lies outside the hull of
+/// the current positions (the hull of positions and destinations grows). Lemma 2 says
+/// this never happens under ConvergeLocality; under ASYNC it is the hull that Lemma 2
+/// bounds, and this keeps the two schedulers' counts comparable.
+pub fn measure_committed<P: IndexPoint>(
+    positions: Res<Positions<P>>,
+    shape: Res<Shape>,
+    mut tally: ResMut<Tally>,
+    robots: Query<(&Robot, &Activated, &Intent<P>)>,
+) {
+    let mut pts: Vec<P> = Vec::new();
+    for (robot, active, intent) in &robots {
+        if let (true, Some(d)) = (active.0, intent.0) {
+            pts.push(positions.points[robot.index as usize] + d);
+        }
+    }
+    if pts.is_empty() {
+        return;
+    }
+    pts.extend_from_slice(&positions.points);
+    if P::hull_measure(&pts) > shape.hull * (1.0 + HULL_GROWTH_TOLERANCE) + 1e-12 {
+        tally.committed_hull_growth += 1;
+    }
+}
+
 /// Advances the round counter.
 pub fn advance_clock(mut clock: ResMut<Clock>) {
     clock.round += 1;
@@ -33,9 +59,10 @@ impl Shape {
     /// Measures a configuration.
     pub fn of<P: IndexPoint>(points: &[P]) -> Shape {
         let e = monoculus_core::metrics::extents(points);
+        let (hull, diameter) = P::hull_and_diameter(points);
         Shape {
-            hull: P::hull_measure(points),
-            diameter: P::diameter(points),
+            hull,
+            diameter,
             extents: (0..P::DIM).map(|a| e.axis(a)).collect(),
         }
     }

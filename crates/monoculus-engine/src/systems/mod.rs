@@ -11,9 +11,9 @@ mod movement;
 use bevy_ecs::prelude::*;
 
 pub use activate::activate_robots;
-pub use compute::{compute_intents, decide_one};
-pub use look::{refresh_snapshot, take_snapshot};
-pub use measure::{advance_clock, measure_shape};
+pub use compute::{compute_intents, decide_one, realise};
+pub use look::{build_sight, refresh_snapshot, take_snapshot};
+pub use measure::{HULL_GROWTH_TOLERANCE, advance_clock, measure_committed, measure_shape};
 pub use movement::apply_moves;
 
 /// The phases of a round, run in this order.

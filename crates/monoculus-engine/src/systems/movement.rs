@@ -10,7 +10,7 @@ pub fn apply_moves<P: IndexPoint>(
     mut positions: ResMut<Positions<P>>,
     mut tally: ResMut<Tally>,
 ) {
-    let (mut activated, mut moved, mut distance) = (0u64, 0u64, 0.0f64);
+    let (mut activated, mut moved) = (0u64, 0u64);
     for (robot, active, intent, mut position) in &mut robots {
         if !active.0 {
             continue;
@@ -20,14 +20,14 @@ pub fn apply_moves<P: IndexPoint>(
             position.0 += d;
             positions.points[robot.index as usize] = position.0;
             moved += 1;
-            distance += d.length();
+            // Summed robot by robot, in index order, as the async scheduler does.
+            tally.distance += d.length();
         }
     }
     tally.round_activations = activated;
     tally.round_moves = moved;
     tally.activations += activated;
     tally.moves += moved;
-    tally.distance += distance;
     if moved > 0 {
         positions.generation += 1;
     }

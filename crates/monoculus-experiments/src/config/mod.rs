@@ -11,10 +11,12 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec2;
 use monoculus_core::algorithms::{AlgorithmKind, AlgorithmParams};
+use monoculus_core::errors::{FactorDist, MovementErrors, ObservationErrors};
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::VisionParams;
 use monoculus_engine::{
-    SchedulerSpec, SequentialOrder, SightBackend, SimConfig, StopCriterion, StopSpec,
+    AsyncSpec, AsyncStart, SchedulerSpec, SequentialOrder, SightBackend, SimConfig, StopCriterion,
+    StopSpec, TickDist,
 };
 
 pub use locate::{line_of, line_of_offset};
@@ -461,7 +463,72 @@ fn validate(
     if !(sc.p > 0.0 && sc.p <= 1.0) {
         return err("scheduler.p", format!("must be in (0, 1], got {}", sc.p));
     }
+    for (key, ticks) in [
+        ("scheduler.idle", sc.idle),
+        ("scheduler.compute", sc.compute),
+        ("scheduler.move", sc.motion),
+    ] {
+        let problem = match ticks {
+            TicksConfig::Fixed { ticks: 0 } => Some("ticks must be at least 1".to_string()),
+            TicksConfig::Uniform { min, max } if min == 0 || max < min => Some(format!(
+                "needs 1 <= min <= max, got min = {min}, max = {max}"
+            )),
+            TicksConfig::Exponential { mean } if !(mean > 0.0 && mean.is_finite()) => {
+                Some(format!("mean must be positive, got {mean}"))
+            }
+            _ => None,
+        };
+        if let Some(m) = problem {
+            return err(key, m);
+        }
+    }
+    let e = &spec.errors;
+    if !(0.0..=1.0).contains(&e.flip_p) {
+        return err(
+            "errors.flip_p",
+            format!("must be in [0, 1], got {}", e.flip_p),
+        );
+    }
+    if !(0.0..=1.0).contains(&e.flip_window) {
+        return err(
+            "errors.flip_window",
+            format!("must be in [0, 1], got {}", e.flip_window),
+        );
+    }
+    if !(e.angle_sigma >= 0.0 && e.angle_sigma.is_finite()) {
+        return err(
+            "errors.angle_sigma",
+            format!("must be non-negative, got {}", e.angle_sigma),
+        );
+    }
+    let factor_ok = match e.step_factor {
+        FactorConfig::Fixed { value } => value >= 0.0 && value.is_finite(),
+        FactorConfig::Uniform { min, max } => min >= 0.0 && min <= max && max.is_finite(),
+        FactorConfig::Normal { mean, sd } => mean.is_finite() && sd >= 0.0 && sd.is_finite(),
+    };
+    if !factor_ok {
+        return err(
+            "errors.step_factor",
+            "factors must be finite and non-negative (min <= max, sd >= 0)".into(),
+        );
+    }
+    if let Some(nr) = e.non_rigid
+        && !(nr.delta_min >= 0.0 && nr.delta_min.is_finite())
+    {
+        return err(
+            "errors.non_rigid",
+            format!("delta_min must be non-negative, got {}", nr.delta_min),
+        );
+    }
     Ok(file_positions)
+}
+
+fn ticks(t: TicksConfig) -> TickDist {
+    match t {
+        TicksConfig::Fixed { ticks } => TickDist::Fixed(ticks),
+        TicksConfig::Uniform { min, max } => TickDist::Uniform { min, max },
+        TicksConfig::Exponential { mean } => TickDist::Exponential { mean },
+    }
 }
 
 impl Cell {
@@ -499,6 +566,11 @@ impl Cell {
                 kind: self.algorithm(),
                 step: a.step,
                 locality: a.locality,
+                errors: ObservationErrors {
+                    flip_p: self.spec.errors.flip_p,
+                    flip_window: self.spec.errors.flip_window,
+                    angle_sigma: self.spec.errors.angle_sigma,
+                },
             },
             vision: VisionParams {
                 eps_pos: v.eps_pos.unwrap_or(defaults.eps_pos),
@@ -515,6 +587,15 @@ impl Cell {
                     p: sc.p,
                     fairness: sc.fairness,
                 },
+                SchedulerKind::Async => SchedulerSpec::Async(AsyncSpec {
+                    idle: ticks(sc.idle),
+                    compute: ticks(sc.compute),
+                    motion: ticks(sc.motion),
+                    start: match sc.start {
+                        StartName::Together => AsyncStart::Together,
+                        StartName::Random => AsyncStart::Random,
+                    },
+                }),
                 SchedulerKind::Sequential => SchedulerSpec::Sequential {
                     order: match sc.order {
                         OrderName::RoundRobin => SequentialOrder::RoundRobin,
@@ -527,6 +608,14 @@ impl Cell {
                 max_rounds: self.spec.stop.max_rounds,
             },
             seed,
+            movement: MovementErrors {
+                step_factor: match self.spec.errors.step_factor {
+                    FactorConfig::Fixed { value } => FactorDist::Fixed(value),
+                    FactorConfig::Uniform { min, max } => FactorDist::Uniform { min, max },
+                    FactorConfig::Normal { mean, sd } => FactorDist::Normal { mean, sd },
+                },
+                non_rigid: self.spec.errors.non_rigid.map(|n| n.delta_min),
+            },
         }
     }
 

@@ -51,6 +51,9 @@ pub struct RunSpec {
     /// When to stop.
     #[serde(default)]
     pub stop: StopConfig,
+    /// Observation and movement errors (all off by default).
+    #[serde(default)]
+    pub errors: ErrorsConfig,
 }
 
 /// Initial shape names.
@@ -195,6 +198,8 @@ pub enum SchedulerKind {
     Ssync,
     /// One robot per round.
     Sequential,
+    /// Continuous time (ticks), per-robot cycles.
+    Async,
 }
 
 /// Sequential orders.
@@ -228,6 +233,136 @@ pub struct SchedulerConfig {
     /// Sequential order: `round_robin` (default) or `random`.
     #[serde(default)]
     pub order: OrderName,
+    /// ASYNC: Idle durations. Default fixed 1 tick.
+    #[serde(default)]
+    pub idle: TicksConfig,
+    /// ASYNC: Compute durations (Look to start of Move). Default fixed 1 tick.
+    #[serde(default)]
+    pub compute: TicksConfig,
+    /// ASYNC: Move durations. Default fixed 1 tick.
+    #[serde(default, rename = "move")]
+    pub motion: TicksConfig,
+    /// ASYNC: `together` (default: everybody Looks at tick 0) or `random` (everybody
+    /// starts Idle for one idle draw).
+    #[serde(default)]
+    pub start: StartName,
+}
+
+/// A distribution of ASYNC phase durations, in whole ticks.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TicksConfig {
+    /// `{ kind = "fixed", ticks = 3 }`.
+    Fixed {
+        /// Ticks, at least 1.
+        ticks: u64,
+    },
+    /// `{ kind = "uniform", min = 1, max = 10 }`: uniform on min..=max.
+    Uniform {
+        /// At least 1.
+        min: u64,
+        /// At least min.
+        max: u64,
+    },
+    /// `{ kind = "exponential", mean = 5 }`: rounded up to whole ticks.
+    Exponential {
+        /// Positive.
+        mean: f64,
+    },
+}
+
+impl Default for TicksConfig {
+    fn default() -> Self {
+        TicksConfig::Fixed { ticks: 1 }
+    }
+}
+
+/// ASYNC start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StartName {
+    /// Everybody Looks at tick 0.
+    #[default]
+    Together,
+    /// Random offsets.
+    Random,
+}
+
+/// A distribution of step-length factors.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FactorConfig {
+    /// `{ kind = "fixed", value = 1.0 }`.
+    Fixed {
+        /// The factor.
+        value: f64,
+    },
+    /// `{ kind = "uniform", min = 0.8, max = 1.2 }`.
+    Uniform {
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
+    /// `{ kind = "normal", mean = 1.0, sd = 0.1 }`, clamped at 0.
+    Normal {
+        /// Mean.
+        mean: f64,
+        /// Standard deviation.
+        sd: f64,
+    },
+}
+
+impl Default for FactorConfig {
+    fn default() -> Self {
+        FactorConfig::Fixed { value: 1.0 }
+    }
+}
+
+/// `non_rigid = { delta_min = 0.5 }`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NonRigidConfig {
+    /// The adversary stops a move after at least this distance.
+    pub delta_min: f64,
+}
+
+fn default_flip_window() -> f64 {
+    0.1
+}
+
+/// `[errors]` (SPEC section 7).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ErrorsConfig {
+    /// Probability that a far/near bit is wrong within the window. Default 0.
+    #[serde(default)]
+    pub flip_p: f64,
+    /// Relative half-width w of the window [c(1 - w), c(1 + w)]. Default 0.1.
+    #[serde(default = "default_flip_window")]
+    pub flip_window: f64,
+    /// Standard deviation (radians) of the angular noise on directions (and of the
+    /// tilt of the agreed axes for OLA). Default 0.
+    #[serde(default)]
+    pub angle_sigma: f64,
+    /// Factor on every move's length. Default fixed 1.
+    #[serde(default)]
+    pub step_factor: FactorConfig,
+    /// Non-rigid moves. Default: rigid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub non_rigid: Option<NonRigidConfig>,
+}
+
+impl Default for ErrorsConfig {
+    fn default() -> Self {
+        ErrorsConfig {
+            flip_p: 0.0,
+            flip_window: default_flip_window(),
+            angle_sigma: 0.0,
+            step_factor: FactorConfig::default(),
+            non_rigid: None,
+        }
+    }
 }
 
 impl Default for SchedulerConfig {
@@ -237,6 +372,10 @@ impl Default for SchedulerConfig {
             p: default_p(),
             fairness: None,
             order: OrderName::RoundRobin,
+            idle: TicksConfig::default(),
+            compute: TicksConfig::default(),
+            motion: TicksConfig::default(),
+            start: StartName::Together,
         }
     }
 }

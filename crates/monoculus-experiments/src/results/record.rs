@@ -19,7 +19,7 @@ pub const PARAM_COLUMNS: [(&str, &str); 9] = [
 ];
 
 /// Metric columns of `runs.csv`, after the parameters and the seed.
-pub const METRIC_COLUMNS: [&str; 19] = [
+pub const METRIC_COLUMNS: [&str; 21] = [
     "rounds",
     "activations",
     "moves",
@@ -35,9 +35,11 @@ pub const METRIC_COLUMNS: [&str; 19] = [
     "hull_area_final",
     "hull_growth_rounds",
     "hull_grew",
+    "committed_hull_growth",
     "terminated",
     "distance",
     "stop_criterion",
+    "ticks",
     "wall_ms",
 ];
 
@@ -136,9 +138,11 @@ pub fn run_row(
         num(o.hull_final),
         o.hull_growth_rounds.to_string(),
         (o.hull_growth_rounds > 0).to_string(),
+        o.committed_hull_growth.to_string(),
         o.terminated.map(|t| t.to_string()).unwrap_or_default(),
         num(o.distance),
         cell.criterion().name().to_string(),
+        o.ticks.map(|t| t.to_string()).unwrap_or_default(),
         format!("{wall_ms:.3}"),
     ]);
     v

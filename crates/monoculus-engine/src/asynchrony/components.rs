@@ -1,0 +1,150 @@
+//! The ASYNC scheduler's per-robot state and shared resources.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use bevy_ecs::prelude::*;
+
+use crate::IndexPoint;
+
+/// Where a robot is in its cycle. The Look is instantaneous: it happens at the tick
+/// the Idle phase ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Waiting; Looks when the phase ends.
+    Idle,
+    /// Has looked; starts its move (or goes idle) when the phase ends.
+    Compute,
+    /// Moving linearly from its `Position` to `target`.
+    Move,
+}
+
+/// A robot's ASYNC clock.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Timing<P: IndexPoint> {
+    /// The current phase.
+    pub phase: Phase,
+    /// The tick at which it began.
+    pub since: u64,
+    /// The tick at which it ends.
+    pub until: u64,
+    /// Looks so far: the key of the robot's decision stream, like the round in FSYNC.
+    pub cycle: u64,
+    /// The tick of the last Look.
+    pub looked: u64,
+    /// Compute and Move: the displacement decided at the Look (`None`: stay; the Move
+    /// phase is then spent in place).
+    pub pending: Option<P>,
+    /// Move: where the move ends.
+    pub target: P,
+}
+
+impl<P: IndexPoint> Timing<P> {
+    /// The position at `tick` of a robot whose phase started at `from`.
+    pub fn position_at(&self, from: P, tick: u64) -> P {
+        if self.phase != Phase::Move || self.pending.is_none() || self.until <= self.since {
+            return from;
+        }
+        let f = (tick.min(self.until) - self.since) as f64 / (self.until - self.since) as f64;
+        from + (self.target - from) * f
+    }
+}
+
+/// The ASYNC clock, the agenda of phase ends, and epoch accounting.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct AsyncClock {
+    /// The current tick.
+    pub tick: u64,
+    /// Epochs completed: spans in which every robot completed a full cycle (a Look at
+    /// or after the span's start, and the end of the Move or decision to stay).
+    pub epochs: u64,
+    epoch_start: u64,
+    done: Vec<bool>,
+    remaining: usize,
+    /// (tick, robot) of every pending phase end.
+    agenda: BinaryHeap<Reverse<(u64, u32)>>,
+    /// Robots whose phase ends at the current tick, ascending.
+    pub due: Vec<u32>,
+    /// (robot, tick of its Look) of the cycles completed at the current tick.
+    pub completed: Vec<(u32, u64)>,
+    /// Whether a move ended at the current tick.
+    pub move_ended: bool,
+    /// Whether the current tick completed an epoch.
+    pub epoch_ended: bool,
+    /// Robots moving or about to move (in Compute with a move decided).
+    pub in_motion: usize,
+    /// Looks in the current epoch.
+    pub epoch_looks: u64,
+    /// Moves started in the current epoch.
+    pub epoch_moves: u64,
+    /// Looks and moves of the epoch that ended last.
+    pub last_epoch: (u64, u64),
+    /// Whether a Look at the current tick decided a move.
+    pub move_decided: bool,
+    /// Area of the hull of positions and committed destinations, last measured.
+    pub committed_hull: f64,
+}
+
+impl AsyncClock {
+    /// A clock for `n` robots.
+    pub fn new(n: usize) -> Self {
+        AsyncClock {
+            done: vec![false; n],
+            remaining: n,
+            ..Default::default()
+        }
+    }
+
+    /// Schedules robot `robot`'s next phase end.
+    pub fn schedule(&mut self, tick: u64, robot: u32) {
+        self.agenda.push(Reverse((tick, robot)));
+    }
+
+    /// Moves to the next tick with phase ends; `false` if nothing is scheduled.
+    pub fn advance(&mut self) -> bool {
+        self.due.clear();
+        self.completed.clear();
+        self.move_ended = false;
+        self.move_decided = false;
+        self.epoch_ended = false;
+        let Some(&Reverse((tick, _))) = self.agenda.peek() else {
+            return false;
+        };
+        self.tick = tick;
+        while let Some(&Reverse((t, r))) = self.agenda.peek() {
+            if t != tick {
+                break;
+            }
+            self.agenda.pop();
+            self.due.push(r);
+        }
+        self.due.sort_unstable();
+        true
+    }
+
+    /// Counts the cycles completed at this tick toward the current epoch; ends the
+    /// epoch when every robot has completed one.
+    pub fn account(&mut self) {
+        for &(r, looked) in &self.completed {
+            let r = r as usize;
+            if looked >= self.epoch_start && !self.done[r] {
+                self.done[r] = true;
+                self.remaining -= 1;
+            }
+        }
+        if self.remaining == 0 {
+            self.epochs += 1;
+            self.epoch_start = self.tick;
+            self.done.fill(false);
+            self.remaining = self.done.len();
+            self.epoch_ended = true;
+            self.last_epoch = (self.epoch_looks, self.epoch_moves);
+            self.epoch_looks = 0;
+            self.epoch_moves = 0;
+        }
+    }
+}
+
+/// Entities by robot index.
+#[derive(Resource, Clone, Debug)]
+pub struct RobotEntities(pub Vec<Entity>);

@@ -1,0 +1,14 @@
+//! The ASYNC scheduler (SPEC section 5): continuous time in whole ticks. Every robot
+//! repeats Idle -> Look -> Compute -> Move with durations drawn from its own streams;
+//! all Looks of one tick see one snapshot, robots in mid-move at their interpolated
+//! positions. Time is counted in epochs: the shortest spans in which every robot
+//! completes at least one full cycle.
+
+mod components;
+mod spec;
+mod systems;
+
+pub use components::{AsyncClock, Phase, RobotEntities, Timing};
+pub use spec::{AsyncSpec, AsyncStart, TickDist};
+pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};
+pub(crate) use systems::{START, duration};

@@ -1,0 +1,94 @@
+//! [`AsyncSpec`]: the timing of the ASYNC scheduler.
+
+use monoculus_core::rng::Stream;
+
+/// A distribution of phase durations in whole ticks (every draw is at least 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TickDist {
+    /// Always this many ticks.
+    Fixed(u64),
+    /// Uniform on min..=max.
+    Uniform {
+        /// Shortest.
+        min: u64,
+        /// Longest.
+        max: u64,
+    },
+    /// Exponential with this mean, rounded up to whole ticks.
+    Exponential {
+        /// Mean in ticks.
+        mean: f64,
+    },
+}
+
+impl TickDist {
+    /// One draw, at least 1 tick.
+    pub fn sample(&self, stream: &mut Stream) -> u64 {
+        let t = match *self {
+            TickDist::Fixed(t) => t,
+            TickDist::Uniform { min, max } => min + stream.below((max - min + 1) as usize) as u64,
+            TickDist::Exponential { mean } => (-mean * (1.0 - stream.uniform()).ln()).ceil() as u64,
+        };
+        t.max(1)
+    }
+}
+
+/// How the robots start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AsyncStart {
+    /// Every robot Looks at tick 0.
+    Together,
+    /// Every robot starts Idle for one draw of the idle distribution.
+    Random,
+}
+
+/// The ASYNC scheduler's timing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AsyncSpec {
+    /// Idle phase durations.
+    pub idle: TickDist,
+    /// Compute phase durations (between the Look and the start of the Move).
+    pub compute: TickDist,
+    /// Move phase durations (the robot moves linearly along its segment).
+    pub motion: TickDist,
+    /// Start offsets.
+    pub start: AsyncStart,
+}
+
+impl Default for AsyncSpec {
+    /// One tick per phase, starting together: the same runs as FSYNC.
+    fn default() -> Self {
+        AsyncSpec {
+            idle: TickDist::Fixed(1),
+            compute: TickDist::Fixed(1),
+            motion: TickDist::Fixed(1),
+            start: AsyncStart::Together,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn draws_are_whole_positive_ticks_with_the_right_means() {
+        let mut s = Stream::new(4, 4, 4, 4);
+        let n = 20_000;
+        let u: Vec<u64> = (0..n)
+            .map(|_| TickDist::Uniform { min: 2, max: 6 }.sample(&mut s))
+            .collect();
+        assert!(u.iter().all(|&t| (2..=6).contains(&t)));
+        assert!(((u.iter().sum::<u64>() as f64 / n as f64) - 4.0).abs() < 0.05);
+        let e: Vec<u64> = (0..n)
+            .map(|_| TickDist::Exponential { mean: 5.0 }.sample(&mut s))
+            .collect();
+        assert!(e.iter().all(|&t| t >= 1));
+        let mean = e.iter().sum::<u64>() as f64 / n as f64;
+        assert!(
+            (mean - 5.5).abs() < 0.2,
+            "ceil of an exponential of mean 5 has mean about 5.5: {mean}"
+        );
+        assert_eq!(TickDist::Fixed(0).sample(&mut s), 1);
+    }
+}

@@ -1,0 +1,292 @@
+//! The systems of one ASYNC event tick, in the order of [`AsyncSet`].
+
+use bevy_ecs::prelude::*;
+use monoculus_core::algorithms::RobotMemory;
+use monoculus_core::vision::Sight;
+use rayon::prelude::*;
+
+use super::{AsyncClock, AsyncSpec, Phase, RobotEntities, TickDist, Timing};
+use crate::components::{Memory, Position, Robot};
+use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
+use crate::systems::{build_sight, decide_one, realise};
+use crate::{IndexPoint, SchedulerSpec};
+
+/// The phases of one event tick, run in this order.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AsyncSet {
+    /// Jump to the next tick at which some phase ends.
+    Advance,
+    /// Moves that end now: the robots arrive and go idle.
+    FinishMoves,
+    /// Computes that end now: the robots start moving (or go idle).
+    FinishComputes,
+    /// Idle phases that end now: these robots Look, all against one snapshot of this
+    /// tick (robots in mid-move seen on their segments), and decide in parallel.
+    Look,
+    /// Epoch accounting and shape measurement.
+    Account,
+}
+
+const TIMING: u64 = 0x7131_0000;
+/// Stream tags of the duration draws.
+const IDLE: u64 = 1;
+const COMPUTE: u64 = 2;
+const MOVE: u64 = 3;
+/// The draw of a random start.
+pub(crate) const START: u64 = 4;
+
+/// A duration for robot `robot` in its cycle `cycle`, from its own stream.
+pub(crate) fn duration(params: &Params, robot: u32, cycle: u64, tag: u64, dist: TickDist) -> u64 {
+    dist.sample(&mut monoculus_core::rng::Stream::new(
+        params.seed,
+        TIMING + tag,
+        robot as u64,
+        cycle,
+    ))
+}
+
+fn spec(params: &Params) -> AsyncSpec {
+    match params.scheduler {
+        SchedulerSpec::Async(s) => s,
+        _ => unreachable!("async systems run only under the async scheduler"),
+    }
+}
+
+fn go_idle<P: IndexPoint>(
+    params: &Params,
+    clock: &mut AsyncClock,
+    robot: u32,
+    timing: &mut Timing<P>,
+) {
+    let t = clock.tick;
+    clock.completed.push((robot, timing.looked));
+    timing.phase = Phase::Idle;
+    timing.since = t;
+    timing.until = t + duration(params, robot, timing.cycle, IDLE, spec(params).idle);
+    clock.schedule(timing.until, robot);
+}
+
+/// Advance: the next tick with phase ends.
+pub fn advance(mut clock: ResMut<AsyncClock>) {
+    clock.advance();
+}
+
+/// FinishMoves.
+pub fn finish_moves<P: IndexPoint>(
+    params: Res<Params>,
+    mut clock: ResMut<AsyncClock>,
+    entities: Res<RobotEntities>,
+    mut positions: ResMut<Positions<P>>,
+    mut robots: Query<(&mut Timing<P>, &mut Position<P>)>,
+) {
+    let t = clock.tick;
+    for k in 0..clock.due.len() {
+        let r = clock.due[k];
+        let (mut timing, mut position) = robots
+            .get_mut(entities.0[r as usize])
+            .expect("robot entity");
+        if timing.phase == Phase::Move && timing.until == t {
+            if timing.pending.take().is_some() {
+                position.0 = timing.target;
+                positions.points[r as usize] = timing.target;
+                clock.move_ended = true;
+                clock.in_motion -= 1;
+            }
+            go_idle(&params, &mut clock, r, &mut timing);
+        }
+    }
+    if clock.move_ended {
+        positions.generation += 1;
+    }
+}
+
+/// FinishComputes.
+pub fn finish_computes<P: IndexPoint>(
+    params: Res<Params>,
+    mut clock: ResMut<AsyncClock>,
+    entities: Res<RobotEntities>,
+    mut tally: ResMut<Tally>,
+    mut robots: Query<(&mut Timing<P>, &Position<P>)>,
+) {
+    let t = clock.tick;
+    for k in 0..clock.due.len() {
+        let r = clock.due[k];
+        let (mut timing, position) = robots
+            .get_mut(entities.0[r as usize])
+            .expect("robot entity");
+        if timing.phase != Phase::Compute || timing.until != t {
+            continue;
+        }
+        // A robot that decided to stay spends its Move phase in place, so that every
+        // cycle is Idle, Look, Compute, Move whatever the decision.
+        let d = timing.pending.take();
+        timing.phase = Phase::Move;
+        timing.since = t;
+        timing.until = t + duration(&params, r, timing.cycle, MOVE, spec(&params).motion);
+        timing.target = position.0 + d.unwrap_or(position.0 * 0.0);
+        timing.pending = d;
+        if let Some(d) = d {
+            tally.moves += 1;
+            tally.distance += d.length();
+            clock.epoch_moves += 1;
+        }
+        clock.schedule(timing.until, r);
+    }
+}
+
+/// Positions of all robots at the current tick: movers on their segments.
+pub(crate) fn positions_now<P: IndexPoint>(
+    tick: u64,
+    settled: &[P],
+    robots: impl Iterator<Item = (u32, P, Timing<P>)>,
+) -> Vec<P> {
+    let mut pts = settled.to_vec();
+    for (r, from, timing) in robots {
+        if timing.phase == Phase::Move {
+            pts[r as usize] = timing.position_at(from, tick);
+        }
+    }
+    pts
+}
+
+fn decide_all<P: IndexPoint, S: Sight<P>>(
+    params: &Params,
+    sight: &S,
+    inputs: &[(u32, u64, Option<RobotMemory>)],
+) -> Vec<(Option<P>, Option<RobotMemory>)> {
+    inputs
+        .par_iter()
+        .with_min_len(16)
+        .map(|&(r, cycle, memory)| {
+            let mut memory = memory;
+            let d = decide_one(params, sight, r as usize, cycle, memory.as_mut())
+                .map(|d| realise(params, r as usize, cycle, d));
+            (d, memory)
+        })
+        .collect()
+}
+
+/// What the Look system reads and writes of each robot.
+type LookerData<P> = (
+    &'static Robot,
+    &'static Position<P>,
+    &'static mut Timing<P>,
+    Option<&'static mut Memory>,
+);
+
+/// Look (and the decision, which the Compute phase then delays).
+pub fn look<P: IndexPoint>(
+    params: Res<Params>,
+    mut clock: ResMut<AsyncClock>,
+    entities: Res<RobotEntities>,
+    positions: Res<Positions<P>>,
+    mut tally: ResMut<Tally>,
+    mut robots: Query<LookerData<P>>,
+) {
+    let t = clock.tick;
+    let lookers: Vec<u32> = clock
+        .due
+        .iter()
+        .copied()
+        .filter(|&r| {
+            let (_, _, timing, _) = robots.get(entities.0[r as usize]).expect("robot entity");
+            timing.phase == Phase::Idle && timing.until == t
+        })
+        .collect();
+    if lookers.is_empty() {
+        return;
+    }
+    let now = positions_now(
+        t,
+        &positions.points,
+        robots
+            .iter()
+            .map(|(r, p, timing, _)| (r.index, p.0, *timing)),
+    );
+    let inputs: Vec<(u32, u64, Option<RobotMemory>)> = lookers
+        .iter()
+        .map(|&r| {
+            let (_, _, timing, memory) = robots.get(entities.0[r as usize]).expect("robot entity");
+            (r, timing.cycle, memory.map(|m| m.0))
+        })
+        .collect();
+    let outputs = match build_sight(&params, now) {
+        SnapshotSight::Index(s) => decide_all(&params, &s, &inputs),
+        SnapshotSight::Exact(s) => decide_all(&params, &s, &inputs),
+    };
+    for (&r, (d, memory)) in lookers.iter().zip(outputs) {
+        let (_, _, mut timing, stored) = robots
+            .get_mut(entities.0[r as usize])
+            .expect("robot entity");
+        if let (Some(mut stored), Some(m)) = (stored, memory) {
+            stored.0 = m;
+        }
+        timing.pending = d;
+        timing.phase = Phase::Compute;
+        timing.looked = t;
+        timing.since = t;
+        timing.until = t + duration(&params, r, timing.cycle, COMPUTE, spec(&params).compute);
+        timing.cycle += 1;
+        clock.schedule(timing.until, r);
+        clock.epoch_looks += 1;
+        if d.is_some() {
+            clock.in_motion += 1;
+            clock.move_decided = true;
+        }
+    }
+    tally.activations += lookers.len() as u64;
+}
+
+/// The points whose hull Lemma 2 bounds under ASYNC: every robot's position at the
+/// start of its current phase and, for decided moves, the destination (a mover's
+/// current position lies between the two).
+pub(crate) fn committed_points<P: IndexPoint>(
+    robots: impl Iterator<Item = (P, Timing<P>)>,
+) -> Vec<P> {
+    let mut pts = Vec::new();
+    for (from, timing) in robots {
+        pts.push(from);
+        if let Some(d) = timing.pending {
+            pts.push(if timing.phase == Phase::Move {
+                timing.target
+            } else {
+                from + d
+            });
+        }
+    }
+    pts
+}
+
+/// Account: epochs; the shape whenever a move ended (hull growth counted per tick);
+/// the committed hull whenever a move ended or was decided.
+pub fn account<P: IndexPoint>(
+    mut clock: ResMut<AsyncClock>,
+    positions: Res<Positions<P>>,
+    mut shape: ResMut<Shape>,
+    mut tally: ResMut<Tally>,
+    robots: Query<(&Robot, &Position<P>, &Timing<P>)>,
+) {
+    clock.account();
+    if clock.move_ended || clock.move_decided {
+        let committed =
+            P::hull_measure(&committed_points(robots.iter().map(|(_, p, t)| (p.0, *t))));
+        if committed > clock.committed_hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12
+        {
+            tally.committed_hull_growth += 1;
+        }
+        clock.committed_hull = committed;
+    }
+    if !clock.move_ended {
+        return;
+    }
+    let now = positions_now(
+        clock.tick,
+        &positions.points,
+        robots.iter().map(|(r, p, timing)| (r.index, p.0, *timing)),
+    );
+    let measured = Shape::of(&now);
+    if measured.hull > shape.hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12 {
+        tally.hull_growth_rounds += 1;
+    }
+    *shape = measured;
+}

@@ -1,0 +1,240 @@
+//! The ASYNC scheduler: FSYNC as a special case, the paper's guarantees, determinism.
+
+mod common;
+
+use monoculus_core::prelude::*;
+use monoculus_engine::prelude::*;
+
+fn with_async(mut cfg: SimConfig, spec: AsyncSpec) -> SimConfig {
+    cfg.scheduler = SchedulerSpec::Async(spec);
+    cfg
+}
+
+fn lockstep(i: u64, c: u64, m: u64) -> AsyncSpec {
+    AsyncSpec {
+        idle: TickDist::Fixed(i),
+        compute: TickDist::Fixed(c),
+        motion: TickDist::Fixed(m),
+        start: AsyncStart::Together,
+    }
+}
+
+fn random_timing(start: AsyncStart) -> AsyncSpec {
+    AsyncSpec {
+        idle: TickDist::Uniform { min: 1, max: 10 },
+        compute: TickDist::Exponential { mean: 3.0 },
+        motion: TickDist::Uniform { min: 1, max: 6 },
+        start,
+    }
+}
+
+#[test]
+fn fixed_durations_starting_together_reproduce_fsync() {
+    let criteria = [
+        StopCriterion::QuiescentOrDiameter,
+        StopCriterion::Quiescent,
+        StopCriterion::Box,
+        StopCriterion::Diameter,
+    ];
+    for kind in AlgorithmKind::ALL {
+        for seed in 0..4 {
+            for (k, &criterion) in criteria.iter().enumerate() {
+                let mut cfg = common::config(kind, SchedulerSpec::Fsync, seed);
+                cfg.stop.criterion = criterion;
+                cfg.stop.max_rounds = 400;
+                let start = common::square(8 + 7 * seed as usize, 9.0, seed);
+                let mut fsync = Simulation::new(cfg, start.clone()).unwrap();
+                let f = fsync.run();
+                let (i, c, m) = [(1, 1, 1), (3, 2, 4), (2, 5, 1), (1, 1, 7)][k];
+                let mut asim = Simulation::new(with_async(cfg, lockstep(i, c, m)), start).unwrap();
+                let mut a = asim.run();
+                assert!(a.ticks.is_some());
+                a.ticks = None;
+                assert_eq!(f, a, "{} seed {seed} {criterion:?}", kind.name());
+                assert_eq!(fsync.positions(), asim.positions());
+            }
+        }
+    }
+}
+
+#[test]
+fn epochs_and_ticks_in_lockstep() {
+    let cfg = common::config(AlgorithmKind::ConvergeQuadrant, SchedulerSpec::Fsync, 1);
+    let start = common::square(30, 12.0, 1);
+    let f = Simulation::new(cfg, start.clone()).unwrap().run();
+    let a = Simulation::new(with_async(cfg, lockstep(2, 3, 4)), start)
+        .unwrap()
+        .run();
+    // Cycle k: Look at 9k, compute until 9k+3, move until 9k+7 = end of epoch k+1.
+    assert_eq!(a.rounds, f.rounds, "{f:?} {a:?}");
+    assert_eq!(a.ticks, Some(9 * f.rounds - 2), "{f:?} {a:?}");
+}
+
+#[test]
+fn converge_locality_under_async_never_grows_the_committed_hull() {
+    for seed in 0..16 {
+        let start = if seed % 2 == 0 {
+            AsyncStart::Together
+        } else {
+            AsyncStart::Random
+        };
+        let cfg = with_async(
+            common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, seed),
+            random_timing(start),
+        );
+        let n = [10, 30, 60][seed as usize % 3];
+        let out = Simulation::new(cfg, common::square(n, 14.0, seed))
+            .unwrap()
+            .run();
+        assert!(out.converged, "seed {seed}: {out:?}");
+        assert_eq!(
+            out.committed_hull_growth, 0,
+            "Lemma 2 under ASYNC, seed {seed}: {out:?}"
+        );
+        assert!(out.final_diameter <= 4.0);
+        assert!(out.rounds > 0 && out.ticks.unwrap() > out.rounds);
+    }
+}
+
+#[test]
+fn converge_quadrant_under_async_reaches_its_box() {
+    for seed in 0..10 {
+        let cfg = with_async(
+            common::config(AlgorithmKind::ConvergeQuadrant, SchedulerSpec::Fsync, seed),
+            random_timing(AsyncStart::Random),
+        );
+        let out = Simulation::new(
+            cfg,
+            common::square([5, 25, 50][seed as usize % 3], 10.0, seed),
+        )
+        .unwrap()
+        .run();
+        assert!(out.converged, "seed {seed}: {out:?}");
+        assert!(out.final_extents.iter().all(|&e| e <= 2.0));
+    }
+}
+
+#[test]
+fn termination_stops_under_async() {
+    for seed in 0..6 {
+        let mut cfg = common::config(
+            AlgorithmKind::ConvergeQuadrantTermination,
+            SchedulerSpec::Fsync,
+            seed,
+        );
+        cfg.stop.max_rounds = 20_000;
+        let out = Simulation::new(
+            with_async(cfg, random_timing(AsyncStart::Together)),
+            common::square(20, 8.0, seed),
+        )
+        .unwrap()
+        .run();
+        assert!(out.converged, "seed {seed}: {out:?}");
+    }
+}
+
+#[test]
+fn async_results_do_not_depend_on_thread_count() {
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let cfg = with_async(
+                common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 5),
+                random_timing(AsyncStart::Random),
+            );
+            let mut sim = Simulation::new(cfg, common::square(300, 30.0, 5)).unwrap();
+            let out = sim.run();
+            (out, sim.positions().to_vec())
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn the_exact_backend_agrees_under_async() {
+    for kind in [
+        AlgorithmKind::ConvergeLocality,
+        AlgorithmKind::ConvergeQuadrant,
+    ] {
+        let mut cfg = with_async(
+            common::config(kind, SchedulerSpec::Fsync, 2),
+            random_timing(AsyncStart::Random),
+        );
+        let start = common::square(25, 8.0, 2);
+        let a = Simulation::new(cfg, start.clone()).unwrap().run();
+        cfg.backend = SightBackend::Exact;
+        assert_eq!(
+            a,
+            Simulation::new(cfg, start).unwrap().run(),
+            "{}",
+            kind.name()
+        );
+    }
+}
+
+#[test]
+fn robots_are_seen_mid_move() {
+    use monoculus_engine::asynchrony::{Phase, Timing};
+    let t = Timing::<glam::DVec2> {
+        phase: Phase::Move,
+        since: 10,
+        until: 14,
+        cycle: 0,
+        looked: 9,
+        pending: Some(glam::DVec2::new(4.0, 0.0)),
+        target: glam::DVec2::new(4.0, 0.0),
+    };
+    assert_eq!(
+        t.position_at(glam::DVec2::ZERO, 11),
+        glam::DVec2::new(1.0, 0.0)
+    );
+    assert_eq!(
+        t.position_at(glam::DVec2::ZERO, 14),
+        glam::DVec2::new(4.0, 0.0)
+    );
+    let idle = Timing {
+        phase: Phase::Idle,
+        ..t
+    };
+    assert_eq!(idle.position_at(glam::DVec2::ZERO, 11), glam::DVec2::ZERO);
+    // In a run with long moves, Looks happen while others are in mid-move, and those
+    // runs differ from runs whose moves take one tick.
+    let slow = AsyncSpec {
+        motion: TickDist::Fixed(9),
+        ..random_timing(AsyncStart::Random)
+    };
+    let quick = AsyncSpec {
+        motion: TickDist::Fixed(1),
+        ..random_timing(AsyncStart::Random)
+    };
+    let cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 3);
+    let start = common::square(40, 12.0, 3);
+    let a = Simulation::new(with_async(cfg, slow), start.clone())
+        .unwrap()
+        .run();
+    let b = Simulation::new(with_async(cfg, quick), start)
+        .unwrap()
+        .run();
+    assert_ne!(a.moves, b.moves);
+}
+
+#[test]
+fn under_async_the_hull_of_positions_alone_can_grow() {
+    // A robot finishing a move decided earlier can end outside the current hull, which
+    // shrank meanwhile: observed, and reported in hull_growth_rounds.
+    let grew = (0..12).any(|seed| {
+        let cfg = with_async(
+            common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, seed),
+            random_timing(AsyncStart::Together),
+        );
+        Simulation::new(cfg, common::square(60, 14.0, seed))
+            .unwrap()
+            .run()
+            .hull_growth_rounds
+            > 0
+    });
+    assert!(grew);
+}
