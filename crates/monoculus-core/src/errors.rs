@@ -118,11 +118,16 @@ impl Perception {
     }
 }
 
-/// A distribution of step-length factors.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A distribution of step-length factors; in configs `{ kind = "fixed", value = 1.0 }`,
+/// `{ kind = "uniform", min = 0.8, max = 1.2 }` or `{ kind = "normal", mean = 1, sd = 0.1 }`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum FactorDist {
     /// Always this factor.
-    Fixed(f64),
+    Fixed {
+        /// The factor.
+        value: f64,
+    },
     /// Uniform in [min, max].
     Uniform {
         /// Lower bound.
@@ -139,11 +144,17 @@ pub enum FactorDist {
     },
 }
 
+impl Default for FactorDist {
+    fn default() -> Self {
+        FactorDist::Fixed { value: 1.0 }
+    }
+}
+
 impl FactorDist {
     /// One draw.
     pub fn sample(&self, stream: &mut Stream) -> f64 {
         match *self {
-            FactorDist::Fixed(f) => f,
+            FactorDist::Fixed { value } => value,
             FactorDist::Uniform { min, max } => stream.uniform_in(min, max),
             FactorDist::Normal { mean, sd } => (mean + sd * stream.normal()).max(0.0),
         }
@@ -163,7 +174,7 @@ pub struct MovementErrors {
 impl MovementErrors {
     /// Rigid, exact moves.
     pub const NONE: MovementErrors = MovementErrors {
-        step_factor: FactorDist::Fixed(1.0),
+        step_factor: FactorDist::Fixed { value: 1.0 },
         non_rigid: None,
     };
 
@@ -245,7 +256,7 @@ mod tests {
     #[test]
     fn non_rigid_moves_stop_between_delta_min_and_the_target() {
         let m = MovementErrors {
-            step_factor: FactorDist::Fixed(1.0),
+            step_factor: FactorDist::Fixed { value: 1.0 },
             non_rigid: Some(0.3),
         };
         let mut s = Stream::new(2, 2, 2, 2);

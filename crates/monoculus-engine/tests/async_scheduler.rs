@@ -12,9 +12,9 @@ fn with_async(mut cfg: SimConfig, spec: AsyncSpec) -> SimConfig {
 
 fn lockstep(i: u64, c: u64, m: u64) -> AsyncSpec {
     AsyncSpec {
-        idle: TickDist::Fixed(i),
-        compute: TickDist::Fixed(c),
-        motion: TickDist::Fixed(m),
+        idle: TickDist::Fixed { ticks: i },
+        compute: TickDist::Fixed { ticks: c },
+        motion: TickDist::Fixed { ticks: m },
         start: AsyncStart::Together,
     }
 }
@@ -203,11 +203,11 @@ fn robots_are_seen_mid_move() {
     // In a run with long moves, Looks happen while others are in mid-move, and those
     // runs differ from runs whose moves take one tick.
     let slow = AsyncSpec {
-        motion: TickDist::Fixed(9),
+        motion: TickDist::Fixed { ticks: 9 },
         ..random_timing(AsyncStart::Random)
     };
     let quick = AsyncSpec {
-        motion: TickDist::Fixed(1),
+        motion: TickDist::Fixed { ticks: 1 },
         ..random_timing(AsyncStart::Random)
     };
     let cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 3);

@@ -23,7 +23,7 @@ fn zero_errors_change_nothing() {
             angle_sigma: 0.0,
         };
         with.movement = MovementErrors {
-            step_factor: FactorDist::Fixed(1.0),
+            step_factor: FactorDist::Fixed { value: 1.0 },
             non_rigid: None,
         };
         assert_eq!(run(cfg, 1), run(with, 1), "{}", kind.name());
@@ -80,7 +80,7 @@ fn far_bit_flips_change_choices() {
 #[test]
 fn movement_errors_scale_the_distance() {
     let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 3);
-    cfg.movement.step_factor = FactorDist::Fixed(0.5);
+    cfg.movement.step_factor = FactorDist::Fixed { value: 0.5 };
     let half = run(cfg, 3);
     assert!(half.converged);
     assert!(
@@ -88,7 +88,7 @@ fn movement_errors_scale_the_distance() {
         "{half:?}"
     );
     cfg.movement = MovementErrors {
-        step_factor: FactorDist::Fixed(1.0),
+        step_factor: FactorDist::Fixed { value: 1.0 },
         non_rigid: Some(0.25),
     };
     let cut = run(cfg, 3);
@@ -115,7 +115,7 @@ fn errors_under_async_are_deterministic_across_threads() {
                     common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 8);
                 cfg.scheduler = SchedulerSpec::Async(AsyncSpec {
                     idle: TickDist::Uniform { min: 1, max: 5 },
-                    compute: TickDist::Fixed(2),
+                    compute: TickDist::Fixed { ticks: 2 },
                     motion: TickDist::Exponential { mean: 3.0 },
                     start: AsyncStart::Random,
                 });

@@ -2,11 +2,17 @@
 
 use monoculus_core::rng::Stream;
 
-/// A distribution of phase durations in whole ticks (every draw is at least 1).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A distribution of phase durations in whole ticks (every draw is at least 1); in
+/// configs `{ kind = "fixed", ticks = 3 }`, `{ kind = "uniform", min = 1, max = 10 }` or
+/// `{ kind = "exponential", mean = 5 }`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum TickDist {
     /// Always this many ticks.
-    Fixed(u64),
+    Fixed {
+        /// Ticks.
+        ticks: u64,
+    },
     /// Uniform on min..=max.
     Uniform {
         /// Shortest.
@@ -22,10 +28,13 @@ pub enum TickDist {
 }
 
 impl TickDist {
+    /// One tick.
+    pub const ONE: TickDist = TickDist::Fixed { ticks: 1 };
+
     /// One draw, at least 1 tick.
     pub fn sample(&self, stream: &mut Stream) -> u64 {
         let t = match *self {
-            TickDist::Fixed(t) => t,
+            TickDist::Fixed { ticks } => ticks,
             TickDist::Uniform { min, max } => min + stream.below((max - min + 1) as usize) as u64,
             TickDist::Exponential { mean } => (-mean * (1.0 - stream.uniform()).ln()).ceil() as u64,
         };
@@ -59,9 +68,9 @@ impl Default for AsyncSpec {
     /// One tick per phase, starting together: the same runs as FSYNC.
     fn default() -> Self {
         AsyncSpec {
-            idle: TickDist::Fixed(1),
-            compute: TickDist::Fixed(1),
-            motion: TickDist::Fixed(1),
+            idle: TickDist::ONE,
+            compute: TickDist::ONE,
+            motion: TickDist::ONE,
             start: AsyncStart::Together,
         }
     }
@@ -89,6 +98,6 @@ mod tests {
             (mean - 5.5).abs() < 0.2,
             "ceil of an exponential of mean 5 has mean about 5.5: {mean}"
         );
-        assert_eq!(TickDist::Fixed(0).sample(&mut s), 1);
+        assert_eq!(TickDist::Fixed { ticks: 0 }.sample(&mut s), 1);
     }
 }

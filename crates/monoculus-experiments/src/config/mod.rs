@@ -469,11 +469,11 @@ fn validate(
         ("scheduler.move", sc.motion),
     ] {
         let problem = match ticks {
-            TicksConfig::Fixed { ticks: 0 } => Some("ticks must be at least 1".to_string()),
-            TicksConfig::Uniform { min, max } if min == 0 || max < min => Some(format!(
+            TickDist::Fixed { ticks: 0 } => Some("ticks must be at least 1".to_string()),
+            TickDist::Uniform { min, max } if min == 0 || max < min => Some(format!(
                 "needs 1 <= min <= max, got min = {min}, max = {max}"
             )),
-            TicksConfig::Exponential { mean } if !(mean > 0.0 && mean.is_finite()) => {
+            TickDist::Exponential { mean } if !(mean > 0.0 && mean.is_finite()) => {
                 Some(format!("mean must be positive, got {mean}"))
             }
             _ => None,
@@ -502,9 +502,9 @@ fn validate(
         );
     }
     let factor_ok = match e.step_factor {
-        FactorConfig::Fixed { value } => value >= 0.0 && value.is_finite(),
-        FactorConfig::Uniform { min, max } => min >= 0.0 && min <= max && max.is_finite(),
-        FactorConfig::Normal { mean, sd } => mean.is_finite() && sd >= 0.0 && sd.is_finite(),
+        FactorDist::Fixed { value } => value >= 0.0 && value.is_finite(),
+        FactorDist::Uniform { min, max } => min >= 0.0 && min <= max && max.is_finite(),
+        FactorDist::Normal { mean, sd } => mean.is_finite() && sd >= 0.0 && sd.is_finite(),
     };
     if !factor_ok {
         return err(
@@ -521,14 +521,6 @@ fn validate(
         );
     }
     Ok(file_positions)
-}
-
-fn ticks(t: TicksConfig) -> TickDist {
-    match t {
-        TicksConfig::Fixed { ticks } => TickDist::Fixed(ticks),
-        TicksConfig::Uniform { min, max } => TickDist::Uniform { min, max },
-        TicksConfig::Exponential { mean } => TickDist::Exponential { mean },
-    }
 }
 
 impl Cell {
@@ -588,9 +580,9 @@ impl Cell {
                     fairness: sc.fairness,
                 },
                 SchedulerKind::Async => SchedulerSpec::Async(AsyncSpec {
-                    idle: ticks(sc.idle),
-                    compute: ticks(sc.compute),
-                    motion: ticks(sc.motion),
+                    idle: sc.idle,
+                    compute: sc.compute,
+                    motion: sc.motion,
                     start: match sc.start {
                         StartName::Together => AsyncStart::Together,
                         StartName::Random => AsyncStart::Random,
@@ -609,11 +601,7 @@ impl Cell {
             },
             seed,
             movement: MovementErrors {
-                step_factor: match self.spec.errors.step_factor {
-                    FactorConfig::Fixed { value } => FactorDist::Fixed(value),
-                    FactorConfig::Uniform { min, max } => FactorDist::Uniform { min, max },
-                    FactorConfig::Normal { mean, sd } => FactorDist::Normal { mean, sd },
-                },
+                step_factor: self.spec.errors.step_factor,
                 non_rigid: self.spec.errors.non_rigid.map(|n| n.delta_min),
             },
         }

@@ -1,6 +1,8 @@
 //! The typed form of one cell of an experiment: every field a single value.
 
 use monoculus_core::algorithms::AlgorithmKind;
+use monoculus_core::errors::FactorDist;
+use monoculus_engine::TickDist;
 use serde::{Deserialize, Serialize};
 
 /// Which seeds every cell runs: `seeds = 100` (0..99) or `seeds = [3, 7]`.
@@ -213,6 +215,10 @@ pub enum OrderName {
     Random,
 }
 
+fn one_tick() -> TickDist {
+    TickDist::ONE
+}
+
 fn default_p() -> f64 {
     0.5
 }
@@ -234,47 +240,18 @@ pub struct SchedulerConfig {
     #[serde(default)]
     pub order: OrderName,
     /// ASYNC: Idle durations. Default fixed 1 tick.
-    #[serde(default)]
-    pub idle: TicksConfig,
+    #[serde(default = "one_tick")]
+    pub idle: TickDist,
     /// ASYNC: Compute durations (Look to start of Move). Default fixed 1 tick.
-    #[serde(default)]
-    pub compute: TicksConfig,
+    #[serde(default = "one_tick")]
+    pub compute: TickDist,
     /// ASYNC: Move durations. Default fixed 1 tick.
-    #[serde(default, rename = "move")]
-    pub motion: TicksConfig,
+    #[serde(default = "one_tick", rename = "move")]
+    pub motion: TickDist,
     /// ASYNC: `together` (default: everybody Looks at tick 0) or `random` (everybody
     /// starts Idle for one idle draw).
     #[serde(default)]
     pub start: StartName,
-}
-
-/// A distribution of ASYNC phase durations, in whole ticks.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum TicksConfig {
-    /// `{ kind = "fixed", ticks = 3 }`.
-    Fixed {
-        /// Ticks, at least 1.
-        ticks: u64,
-    },
-    /// `{ kind = "uniform", min = 1, max = 10 }`: uniform on min..=max.
-    Uniform {
-        /// At least 1.
-        min: u64,
-        /// At least min.
-        max: u64,
-    },
-    /// `{ kind = "exponential", mean = 5 }`: rounded up to whole ticks.
-    Exponential {
-        /// Positive.
-        mean: f64,
-    },
-}
-
-impl Default for TicksConfig {
-    fn default() -> Self {
-        TicksConfig::Fixed { ticks: 1 }
-    }
 }
 
 /// ASYNC start.
@@ -286,37 +263,6 @@ pub enum StartName {
     Together,
     /// Random offsets.
     Random,
-}
-
-/// A distribution of step-length factors.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum FactorConfig {
-    /// `{ kind = "fixed", value = 1.0 }`.
-    Fixed {
-        /// The factor.
-        value: f64,
-    },
-    /// `{ kind = "uniform", min = 0.8, max = 1.2 }`.
-    Uniform {
-        /// Lower bound.
-        min: f64,
-        /// Upper bound.
-        max: f64,
-    },
-    /// `{ kind = "normal", mean = 1.0, sd = 0.1 }`, clamped at 0.
-    Normal {
-        /// Mean.
-        mean: f64,
-        /// Standard deviation.
-        sd: f64,
-    },
-}
-
-impl Default for FactorConfig {
-    fn default() -> Self {
-        FactorConfig::Fixed { value: 1.0 }
-    }
 }
 
 /// `non_rigid = { delta_min = 0.5 }`.
@@ -347,7 +293,7 @@ pub struct ErrorsConfig {
     pub angle_sigma: f64,
     /// Factor on every move's length. Default fixed 1.
     #[serde(default)]
-    pub step_factor: FactorConfig,
+    pub step_factor: FactorDist,
     /// Non-rigid moves. Default: rigid.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub non_rigid: Option<NonRigidConfig>,
@@ -359,7 +305,7 @@ impl Default for ErrorsConfig {
             flip_p: 0.0,
             flip_window: default_flip_window(),
             angle_sigma: 0.0,
-            step_factor: FactorConfig::default(),
+            step_factor: FactorDist::default(),
             non_rigid: None,
         }
     }
@@ -372,9 +318,9 @@ impl Default for SchedulerConfig {
             p: default_p(),
             fairness: None,
             order: OrderName::RoundRobin,
-            idle: TicksConfig::default(),
-            compute: TicksConfig::default(),
-            motion: TicksConfig::default(),
+            idle: TickDist::ONE,
+            compute: TickDist::ONE,
+            motion: TickDist::ONE,
             start: StartName::Together,
         }
     }
