@@ -1,8 +1,6 @@
-//! Positions CSV: header `x,y`, one robot per row.
+//! Positions CSV: header `x,y` (and `z` in 3D), one robot per row.
 
 use std::path::Path;
-
-use glam::DVec2;
 
 /// A bad positions file.
 #[derive(Debug, thiserror::Error)]
@@ -27,9 +25,35 @@ pub enum PositionsError {
     },
 }
 
-/// Reads a positions CSV (header with columns `x` and `y`, in any order; other columns
-/// are ignored).
-pub fn read_positions(path: &Path) -> Result<Vec<DVec2>, PositionsError> {
+/// Robots read from a positions file: coordinates (z = 0 when the file has no z column).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PositionsFile {
+    /// Rows.
+    pub rows: Vec<[f64; 3]>,
+    /// Whether the file has a `z` column.
+    pub has_z: bool,
+}
+
+impl PositionsFile {
+    /// The positions as points of dimension `P::DIM`.
+    pub fn points<P: monoculus_core::geometry::Point>(&self) -> Vec<P> {
+        self.rows.iter().map(|r| P::from_slice(r)).collect()
+    }
+
+    /// The number of robots.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// Whether there are no robots.
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+}
+
+/// Reads a positions CSV (header with columns `x`, `y` and optionally `z`, in any
+/// order; other columns are ignored).
+pub fn read_positions(path: &Path) -> Result<PositionsFile, PositionsError> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|source| PositionsError::Io {
         path: name.clone(),
@@ -39,7 +63,7 @@ pub fn read_positions(path: &Path) -> Result<Vec<DVec2>, PositionsError> {
 }
 
 /// Parses a positions CSV from text; `name` labels errors.
-pub fn parse_positions(text: &str, name: &str) -> Result<Vec<DVec2>, PositionsError> {
+pub fn parse_positions(text: &str, name: &str) -> Result<PositionsFile, PositionsError> {
     let perr = |line: usize, message: String| PositionsError::Parse {
         path: name.to_string(),
         line,
@@ -62,6 +86,7 @@ pub fn parse_positions(text: &str, name: &str) -> Result<Vec<DVec2>, PositionsEr
             ),
         ));
     };
+    let zi = col("z");
     let mut out = Vec::new();
     for record in reader.records() {
         let record = record.map_err(|e| {
@@ -82,12 +107,19 @@ pub fn parse_positions(text: &str, name: &str) -> Result<Vec<DVec2>, PositionsEr
                     )
                 })
         };
-        out.push(DVec2::new(get(xi, "x")?, get(yi, "y")?));
+        let z = match zi {
+            Some(zi) => get(zi, "z")?,
+            None => 0.0,
+        };
+        out.push([get(xi, "x")?, get(yi, "y")?, z]);
     }
     if out.is_empty() {
         return Err(perr(1, "no robots".into()));
     }
-    Ok(out)
+    Ok(PositionsFile {
+        rows: out,
+        has_z: zi.is_some(),
+    })
 }
 
 #[cfg(test)]
@@ -97,7 +129,10 @@ mod tests {
     #[test]
     fn reads_and_reports_lines() {
         let p = parse_positions("x,y\n1,2\n3.5, -4\n", "f.csv").unwrap();
-        assert_eq!(p, vec![DVec2::new(1.0, 2.0), DVec2::new(3.5, -4.0)]);
+        assert_eq!(p.rows, vec![[1.0, 2.0, 0.0], [3.5, -4.0, 0.0]]);
+        assert!(!p.has_z);
+        let q = parse_positions("z,x,y\n1,2,3\n", "f.csv").unwrap();
+        assert_eq!((q.rows[0], q.has_z), ([2.0, 3.0, 1.0], true));
         let e = parse_positions("x,y\n1,2\n3,abc\n", "f.csv")
             .unwrap_err()
             .to_string();

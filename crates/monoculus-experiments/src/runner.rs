@@ -6,7 +6,8 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use monoculus_engine::{EngineError, RunOutcome, Simulation};
+use glam::{DVec2, DVec3};
+use monoculus_engine::{EngineError, IndexPoint, RunOutcome, Simulation};
 use rayon::prelude::*;
 
 use crate::config::{Cell, Experiment, RunId};
@@ -52,9 +53,14 @@ pub enum SweepError {
 
 /// Runs one (cell, seed) and times it.
 pub fn run_one(cell: &Cell, seed: u64) -> Result<(RunOutcome, f64), EngineError> {
+    fn go<P: IndexPoint>(cell: &Cell, seed: u64) -> Result<RunOutcome, EngineError> {
+        Ok(Simulation::<P>::new(cell.sim_config(seed), cell.initial_positions(seed))?.run())
+    }
     let start = Instant::now();
-    let mut sim = Simulation::new(cell.sim_config(seed), cell.initial_positions(seed))?;
-    let outcome = sim.run();
+    let outcome = match cell.dim() {
+        3 => go::<DVec3>(cell, seed)?,
+        _ => go::<DVec2>(cell, seed)?,
+    };
     Ok((outcome, start.elapsed().as_secs_f64() * 1e3))
 }
 

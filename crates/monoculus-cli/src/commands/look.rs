@@ -1,7 +1,8 @@
 use std::path::PathBuf;
 
+use glam::{DVec2, DVec3};
 use monoculus_core::vision::{Sight, VisionParams};
-use monoculus_engine::IndexedSight;
+use monoculus_engine::{IndexPoint, IndexedSight};
 use monoculus_experiments::positions::read_positions;
 use monoculus_experiments::results::num;
 
@@ -31,17 +32,18 @@ pub struct LookArgs {
 }
 
 /// Prints one row per visible point: `index` (lowest CSV row of co-located robots),
-/// `far` (LD) or `side_x,side_y` (OLA: -1, 0 or 1 beyond the tolerance), and the unit
-/// direction `dx,dy` in the global frame.
+/// `far` (LD) or `side_x,side_y[,side_z]` (OLA: -1, 0 or 1 beyond the tolerance), and
+/// the unit direction `dx,dy[,dz]` in the global frame. A file with a `z` column is a
+/// configuration in space.
 pub fn look(args: LookArgs) -> Result<(), Failure> {
-    let pts = read_positions(&args.positions)?;
-    if args.robot >= pts.len() {
+    let file = read_positions(&args.positions)?;
+    if args.robot >= file.len() {
         return Err(Failure::Input(format!(
             "--robot {}: {} has {} robots (rows 0..{})",
             args.robot,
             args.positions.display(),
-            pts.len(),
-            pts.len()
+            file.len(),
+            file.len()
         )));
     }
     if !(args.locality > 0.0 && args.locality.is_finite()) {
@@ -50,36 +52,53 @@ pub fn look(args: LookArgs) -> Result<(), Failure> {
             args.locality
         )));
     }
+    if file.has_z {
+        print!("{}", look_in::<DVec3>(file.points(), &args));
+    } else {
+        print!("{}", look_in::<DVec2>(file.points(), &args));
+    }
+    Ok(())
+}
+
+fn look_in<P: IndexPoint>(pts: Vec<P>, args: &LookArgs) -> String {
+    let axes = &["x", "y", "z"][..P::DIM];
     let vision = VisionParams::default();
     let sight = IndexedSight::new(pts.clone(), vision);
     let p = pts[args.robot];
-    match args.model {
-        Model::Ld => println!("index,far,dx,dy"),
-        Model::Ola => println!("index,side_x,side_y,dx,dy"),
-    }
+    let mut out = String::new();
+    let header: Vec<String> = match args.model {
+        Model::Ld => ["index".to_string(), "far".to_string()]
+            .into_iter()
+            .chain(axes.iter().map(|a| format!("d{a}")))
+            .collect(),
+        Model::Ola => std::iter::once("index".to_string())
+            .chain(axes.iter().map(|a| format!("side_{a}")))
+            .chain(axes.iter().map(|a| format!("d{a}")))
+            .collect(),
+    };
+    out.push_str(&header.join(","));
+    out.push('\n');
     for j in sight.visible_points(args.robot) {
         let d = pts[j] - p;
-        let u = d.normalize();
+        let u = d.normalized();
+        let mut row = vec![j.to_string()];
         match args.model {
-            Model::Ld => println!(
-                "{j},{},{},{}",
-                d.length() > args.locality,
-                num(u.x),
-                num(u.y)
-            ),
-            Model::Ola => {
-                let side = |c: f64| {
-                    if c > vision.eps_axis {
-                        1
-                    } else if c < -vision.eps_axis {
-                        -1
-                    } else {
-                        0
-                    }
-                };
-                println!("{j},{},{},{},{}", side(d.x), side(d.y), num(u.x), num(u.y));
-            }
+            Model::Ld => row.push((d.length() > args.locality).to_string()),
+            Model::Ola => row.extend((0..P::DIM).map(|k| {
+                let c = d.axis(k);
+                (if c > vision.eps_axis {
+                    1
+                } else if c < -vision.eps_axis {
+                    -1
+                } else {
+                    0
+                })
+                .to_string()
+            })),
         }
+        row.extend((0..P::DIM).map(|k| num(u.axis(k))));
+        out.push_str(&row.join(","));
+        out.push('\n');
     }
-    Ok(())
+    out
 }

@@ -1,7 +1,9 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use monoculus_engine::Simulation;
+use glam::{DVec2, DVec3};
+use monoculus_engine::{IndexPoint, RunOutcome, Simulation};
+use monoculus_experiments::Cell;
 use monoculus_experiments::results::num;
 
 use super::{ConfigArgs, Failure, thread_pool};
@@ -46,60 +48,10 @@ pub fn trace(args: TraceArgs) -> Result<(), Failure> {
         }
     };
     let pool = thread_pool(args.threads)?;
-    let mut out = std::io::BufWriter::new(std::fs::File::create(&args.out)?);
-    writeln!(
-        out,
-        "round,activated,moving,hull_area,diameter,extent_x,extent_y"
-    )?;
-    let mut pos_out = if args.positions {
-        let path = args.out.with_extension("positions.csv");
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&path)?);
-        writeln!(f, "round,robot,x,y")?;
-        Some(f)
-    } else {
-        None
-    };
-    let mut io_error: Option<std::io::Error> = None;
-    let outcome = pool.install(|| {
-        let mut sim = Simulation::new(
-            cell.sim_config(args.seed),
-            cell.initial_positions(args.seed),
-        )
-        .map_err(|e| Failure::Other(e.into()))?;
-        Ok::<_, Failure>(sim.run_with(|r| {
-            let mut write = || -> std::io::Result<()> {
-                writeln!(
-                    out,
-                    "{},{},{},{},{},{},{}",
-                    r.round,
-                    r.activated,
-                    r.moving,
-                    num(r.hull),
-                    num(r.diameter),
-                    num(r.extents[0]),
-                    num(r.extents[1])
-                )?;
-                if let Some(f) = pos_out.as_mut() {
-                    for (i, p) in r.positions.iter().enumerate() {
-                        writeln!(f, "{},{},{},{}", r.round, i, num(p.x), num(p.y))?;
-                    }
-                }
-                Ok(())
-            };
-            if io_error.is_none()
-                && let Err(e) = write()
-            {
-                io_error = Some(e);
-            }
-        }))
+    let outcome = pool.install(|| match cell.dim() {
+        3 => trace_in::<DVec3>(cell, &args),
+        _ => trace_in::<DVec2>(cell, &args),
     })?;
-    if let Some(e) = io_error {
-        return Err(e.into());
-    }
-    out.flush()?;
-    if let Some(mut f) = pos_out {
-        f.flush()?;
-    }
     println!(
         "rounds={} converged={} moves={} final_diameter={} hull_growth_rounds={}",
         outcome.rounds,
@@ -109,4 +61,70 @@ pub fn trace(args: TraceArgs) -> Result<(), Failure> {
         outcome.hull_growth_rounds
     );
     Ok(())
+}
+
+/// Runs the cell, writing one row per round (and the positions with `--positions`).
+fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, Failure> {
+    let axes = &["x", "y", "z"][..P::DIM];
+    let measure = if P::DIM == 3 {
+        "hull_volume"
+    } else {
+        "hull_area"
+    };
+    let mut out = std::io::BufWriter::new(std::fs::File::create(&args.out)?);
+    let extents: Vec<String> = axes.iter().map(|a| format!("extent_{a}")).collect();
+    writeln!(
+        out,
+        "round,activated,moving,{measure},diameter,{}",
+        extents.join(",")
+    )?;
+    let mut pos_out = if args.positions {
+        let path = args.out.with_extension("positions.csv");
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&path)?);
+        writeln!(f, "round,robot,{}", axes.join(","))?;
+        Some(f)
+    } else {
+        None
+    };
+    let mut io_error: Option<std::io::Error> = None;
+    let mut sim = Simulation::<P>::new(
+        cell.sim_config(args.seed),
+        cell.initial_positions(args.seed),
+    )
+    .map_err(|e| Failure::Other(e.into()))?;
+    let outcome = sim.run_with(|r| {
+        let mut write = || -> std::io::Result<()> {
+            let ext: Vec<String> = r.extents.iter().map(|&e| num(e)).collect();
+            writeln!(
+                out,
+                "{},{},{},{},{},{}",
+                r.round,
+                r.activated,
+                r.moving,
+                num(r.hull),
+                num(r.diameter),
+                ext.join(",")
+            )?;
+            if let Some(f) = pos_out.as_mut() {
+                for (i, p) in r.positions.iter().enumerate() {
+                    let c: Vec<String> = (0..P::DIM).map(|k| num(p.axis(k))).collect();
+                    writeln!(f, "{},{},{}", r.round, i, c.join(","))?;
+                }
+            }
+            Ok(())
+        };
+        if io_error.is_none()
+            && let Err(e) = write()
+        {
+            io_error = Some(e);
+        }
+    });
+    if let Some(e) = io_error {
+        return Err(e.into());
+    }
+    out.flush()?;
+    if let Some(mut f) = pos_out {
+        f.flush()?;
+    }
+    Ok(outcome)
 }

@@ -2,8 +2,10 @@
 
 mod axis_frame;
 mod hull;
+mod hull3d;
 mod point;
 
 pub use axis_frame::{AxisFrame, MAX_DIM};
 pub use hull::{HullGeometry, convex_hull_2d, polygon_area};
+pub use hull3d::convex_hull_3d;
 pub use point::{Point, angle_between};

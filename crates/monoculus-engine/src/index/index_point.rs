@@ -1,10 +1,9 @@
 //! [`IndexPoint`]: the bridge from [`Point`] to rstar's point type.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use monoculus_core::geometry::HullGeometry;
 
-/// A [`HullGeometry`] point that the R-tree can store. Implemented for the plane;
-/// d = 3 follows once `HullGeometry` has a hull volume for `DVec3`.
+/// A [`HullGeometry`] point that the R-tree can store (d = 2 and 3).
 pub trait IndexPoint: HullGeometry {
     /// rstar's point type of the same dimension.
     type Array: rstar::Point<Scalar = f64> + Copy + Send + Sync;
@@ -16,5 +15,12 @@ impl IndexPoint for DVec2 {
     type Array = [f64; 2];
     fn to_array(self) -> [f64; 2] {
         [self.x, self.y]
+    }
+}
+
+impl IndexPoint for DVec3 {
+    type Array = [f64; 3];
+    fn to_array(self) -> [f64; 3] {
+        [self.x, self.y, self.z]
     }
 }

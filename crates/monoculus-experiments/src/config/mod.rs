@@ -9,9 +9,9 @@ use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use glam::DVec2;
 use monoculus_core::algorithms::{AlgorithmKind, AlgorithmParams};
 use monoculus_core::errors::{FactorDist, MovementErrors, ObservationErrors};
+use monoculus_core::geometry::Point;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::VisionParams;
 use monoculus_engine::{
@@ -22,7 +22,7 @@ use monoculus_engine::{
 pub use locate::{line_of, line_of_offset};
 pub use spec::*;
 
-use crate::positions::read_positions;
+use crate::positions::{PositionsFile, read_positions};
 
 /// A bad config: where, which key, what is wrong. Displays as one line:
 /// `FILE:LINE: KEY: MESSAGE`.
@@ -72,7 +72,7 @@ pub struct Cell {
     /// The typed configuration.
     pub spec: RunSpec,
     /// Positions read from `swarm.file`, if `init = "file"`.
-    pub file_positions: Option<Vec<DVec2>>,
+    pub file_positions: Option<PositionsFile>,
 }
 
 /// A loaded, validated experiment.
@@ -288,7 +288,7 @@ impl Experiment {
         let count: usize = axes.iter().map(|a| a.values.len()).product();
         let mut cells = Vec::with_capacity(count);
         let mut warnings = Vec::new();
-        let mut files: HashMap<PathBuf, Vec<DVec2>> = HashMap::new();
+        let mut files: HashMap<PathBuf, PositionsFile> = HashMap::new();
         for index in 0..count {
             let mut rest = index;
             let mut chosen = vec![0; axes.len()];
@@ -357,9 +357,9 @@ fn validate(
     spec: &RunSpec,
     src: &Source<'_>,
     base: &Path,
-    files: &mut HashMap<PathBuf, Vec<DVec2>>,
+    files: &mut HashMap<PathBuf, PositionsFile>,
     warnings: &mut Vec<String>,
-) -> Result<Option<Vec<DVec2>>, ConfigError> {
+) -> Result<Option<PositionsFile>, ConfigError> {
     let err = |key: &str, m: String| Err(src.error(key, m));
     match &spec.seeds {
         Seeds::Count(0) => return err("seeds", "must be at least 1".into()),
@@ -367,14 +367,22 @@ fn validate(
         _ => {}
     }
     let s = &spec.swarm;
-    if s.dim != 2 {
+    if s.dim == 3
+        && matches!(
+            spec.algorithm.name,
+            AlgorithmKind::Median | AlgorithmKind::AngleBisector
+        )
+    {
         return err(
-            "swarm.dim",
+            "algorithm.name",
             format!(
-                "dimension {} is not supported; monoculus simulates the plane (dim = 2)",
-                s.dim
+                "{} is defined by angular order in the plane (the paper's Figure 1): dim must be 2",
+                spec.algorithm.name.name()
             ),
         );
+    }
+    if s.dim != 2 && s.dim != 3 {
+        return err("swarm.dim", format!("must be 2 or 3, got {}", s.dim));
     }
     if !(s.side > 0.0 && s.side.is_finite()) {
         return err("swarm.side", format!("must be positive, got {}", s.side));
@@ -405,6 +413,12 @@ fn validate(
                 p
             }
         };
+        if s.dim == 3 && !pts.has_z {
+            return err(
+                "swarm.file",
+                format!("dim = 3 needs a z column in {}", path.display()),
+            );
+        }
         if let Some(n) = s.n
             && n != pts.len()
         {
@@ -533,7 +547,7 @@ impl Cell {
     pub fn n(&self) -> usize {
         self.file_positions
             .as_ref()
-            .map_or_else(|| self.spec.swarm.n.unwrap_or(0), Vec::len)
+            .map_or_else(|| self.spec.swarm.n.unwrap_or(0), PositionsFile::len)
     }
 
     /// The stop criterion in force.
@@ -607,10 +621,15 @@ impl Cell {
         }
     }
 
-    /// The initial positions for `seed`.
-    pub fn initial_positions(&self, seed: u64) -> Vec<DVec2> {
+    /// The dimension.
+    pub fn dim(&self) -> usize {
+        self.spec.swarm.dim
+    }
+
+    /// The initial positions for `seed`, in dimension `P::DIM` (= [`Cell::dim`]).
+    pub fn initial_positions<P: Point>(&self, seed: u64) -> Vec<P> {
         if let Some(p) = &self.file_positions {
-            return p.clone();
+            return p.points();
         }
         let s = &self.spec.swarm;
         let side = s.side;

@@ -19,7 +19,7 @@ pub const PARAM_COLUMNS: [(&str, &str); 9] = [
 ];
 
 /// Metric columns of `runs.csv`, after the parameters and the seed.
-pub const METRIC_COLUMNS: [&str; 21] = [
+pub const METRIC_COLUMNS: [&str; 22] = [
     "rounds",
     "activations",
     "moves",
@@ -31,6 +31,7 @@ pub const METRIC_COLUMNS: [&str; 21] = [
     "final_diameter",
     "final_extent_x",
     "final_extent_y",
+    "final_extent_z",
     "hull_area_initial",
     "hull_area_final",
     "hull_growth_rounds",
@@ -134,6 +135,7 @@ pub fn run_row(
         num(o.final_diameter),
         ext(0),
         ext(1),
+        ext(2),
         num(o.hull_initial),
         num(o.hull_final),
         o.hull_growth_rounds.to_string(),
