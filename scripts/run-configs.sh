@@ -2,7 +2,7 @@
 # Usage: scripts/run-configs.sh CONFIG_DIR TABLE.md [monoculus run options...]
 # Runs every config in CONFIG_DIR (results in results/<dir>/<config>) and writes the
 # table of rho and tau per cell to TABLE.md. Finished runs are kept: rerunning resumes
-# (pass --force to start over).
+# (pass --force to start over). TABLE_ARGS adds options to `monoculus table`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 configs="$1"; table="$2"; shift 2
@@ -14,5 +14,6 @@ for config in "$configs"/*.toml; do
     ./target/release/monoculus run "$config" --out "$out" "$@"
     dirs+=("$out")
 done
-./target/release/monoculus table "${dirs[@]}" > "$table"
+# shellcheck disable=SC2086
+./target/release/monoculus table ${TABLE_ARGS:-} "${dirs[@]}" > "$table"
 echo "table written to $table"

@@ -92,6 +92,8 @@ pub struct Tally {
     pub round_moves: u64,
     /// Rounds (ASYNC: ticks) in which the area of the hull of the positions grew.
     pub hull_growth_rounds: u64,
+    /// The largest relative growth of the hull in one round (tick): area / previous - 1.
+    pub hull_growth_max: f64,
     /// ASYNC: ticks in which the hull of the positions and of the destinations of
     /// decided moves grew (the form in which Lemma 2 holds under ASYNC).
     pub committed_hull_growth: u64,
@@ -102,6 +104,8 @@ pub struct Tally {
 pub struct Shape {
     /// Area (d = 2) or volume (d = 3) of the convex hull.
     pub hull: f64,
+    /// The largest hull measured so far in the run.
+    pub hull_max: f64,
     /// Largest pairwise distance.
     pub diameter: f64,
     /// Bounding-box extent per axis.

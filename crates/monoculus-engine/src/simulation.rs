@@ -85,6 +85,10 @@ pub struct RunOutcome {
     pub hull_initial: f64,
     /// Hull area (volume) at the end.
     pub hull_final: f64,
+    /// The largest hull area (volume) measured during the run.
+    pub hull_max: f64,
+    /// The largest relative growth of the hull in one round (ASYNC: tick), 0 if none.
+    pub hull_growth_max: f64,
     /// Rounds (ASYNC: ticks) in which the area of the hull of the positions grew.
     pub hull_growth_rounds: u64,
     /// Rounds (ASYNC: ticks) in which the hull of the positions and the destinations
@@ -476,6 +480,8 @@ impl<P: IndexPoint> Simulation<P> {
             final_extents: shape.extents,
             hull_initial: self.hull_initial,
             hull_final: shape.hull,
+            hull_max: shape.hull_max,
+            hull_growth_max: tally.hull_growth_max,
             hull_growth_rounds: tally.hull_growth_rounds,
             committed_hull_growth: tally.committed_hull_growth,
             terminated,

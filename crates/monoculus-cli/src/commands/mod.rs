@@ -2,6 +2,7 @@
 
 mod check;
 mod look;
+mod plot;
 mod run;
 mod table;
 mod trace;
@@ -33,6 +34,8 @@ enum Command {
     Look(look::LookArgs),
     /// Tables of rho and tau (median [q1, q3]) per cell from results folders.
     Table(table::TableArgs),
+    /// Figures (PNG and SVG) from a results folder, or from a trace CSV.
+    Plot(plot::PlotArgs),
 }
 
 /// How a command failed: bad input (exit status 2) or anything else (1).
@@ -121,5 +124,6 @@ pub fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Trace(a) => trace::trace(a),
         Command::Look(a) => look::look(a),
         Command::Table(a) => table::table(a),
+        Command::Plot(a) => plot::plot(a),
     }
 }

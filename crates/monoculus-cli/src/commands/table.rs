@@ -20,6 +20,10 @@ pub struct TableArgs {
     /// Output format.
     #[arg(long, value_enum, default_value = "markdown")]
     format: Format,
+    /// Also show how often and how much the hull grew: runs in which it grew, and over
+    /// those runs the median of the largest relative growth in one round.
+    #[arg(long)]
+    hull: bool,
 }
 
 pub fn table(args: TableArgs) -> Result<(), Failure> {
@@ -34,7 +38,7 @@ pub fn table(args: TableArgs) -> Result<(), Failure> {
         if args.format == Format::Markdown {
             println!("**{}**\n", dir.display());
         }
-        println!("{}", render(&path, args.format)?);
+        println!("{}", render_with(&path, args.format, args.hull)?);
     }
     Ok(())
 }
@@ -54,6 +58,11 @@ fn cell(v: &str, digits: usize) -> String {
 /// The per-cell table of a summary.csv: parameters that vary or matter, then
 /// converged/runs and rho, tau and rounds as median [q1, q3].
 pub fn render(path: &Path, format: Format) -> Result<String, Failure> {
+    render_with(path, format, false)
+}
+
+/// [`render`], optionally with the hull-growth columns.
+pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Failure> {
     let bad = |e: csv::Error| Failure::Input(format!("{}: {e}", path.display()));
     let mut reader = csv::Reader::from_path(path).map_err(bad)?;
     let header = reader.headers().map_err(bad)?.clone();
@@ -80,6 +89,12 @@ pub fn render(path: &Path, format: Format) -> Result<String, Failure> {
         .collect();
     let mut rows: Vec<Vec<String>> = Vec::new();
     let mut head: Vec<String> = params.iter().map(|&i| header[i].to_string()).collect();
+    if hull {
+        head.extend([
+            "hull grew".to_string(),
+            "largest growth in a round (median)".to_string(),
+        ]);
+    }
     head.extend([
         "converged".to_string(),
         "rho median [q1, q3]".into(),
@@ -90,6 +105,10 @@ pub fn render(path: &Path, format: Format) -> Result<String, Failure> {
     for r in &records {
         let mut row: Vec<String> = params.iter().map(|&i| r[i].to_string()).collect();
         let s = |k: usize| &r[stat_idx[k]];
+        if hull {
+            row.push(format!("{}/{}", s(10), s(0)));
+            row.push(cell(s(11), 3));
+        }
         row.push(format!("{}/{}", s(1), s(0)));
         row.push(format!(
             "{} [{}, {}]",

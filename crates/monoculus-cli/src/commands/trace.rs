@@ -71,7 +71,14 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     } else {
         "hull_area"
     };
-    let mut out = std::io::BufWriter::new(std::fs::File::create(&args.out)?);
+    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    let create = |path: &std::path::Path| {
+        std::fs::File::create(path)
+            .map_err(|e| Failure::Other(anyhow::anyhow!("{}: {e}", path.display())))
+    };
+    let mut out = std::io::BufWriter::new(create(&args.out)?);
     let extents: Vec<String> = axes.iter().map(|a| format!("extent_{a}")).collect();
     writeln!(
         out,
@@ -80,7 +87,7 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     )?;
     let mut pos_out = if args.positions {
         let path = args.out.with_extension("positions.csv");
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&path)?);
+        let mut f = std::io::BufWriter::new(create(&path)?);
         writeln!(f, "round,robot,{}", axes.join(","))?;
         Some(f)
     } else {

@@ -284,9 +284,11 @@ pub fn account<P: IndexPoint>(
         &positions.points,
         robots.iter().map(|(r, p, timing)| (r.index, p.0, *timing)),
     );
-    let measured = Shape::of(&now);
+    let mut measured = Shape::of(&now);
     if measured.hull > shape.hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12 {
         tally.hull_growth_rounds += 1;
+        tally.hull_growth_max = tally.hull_growth_max.max(measured.hull / shape.hull - 1.0);
     }
+    measured.hull_max = shape.hull_max.max(measured.hull);
     *shape = measured;
 }

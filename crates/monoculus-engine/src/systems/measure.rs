@@ -18,10 +18,12 @@ pub fn measure_shape<P: IndexPoint>(
     if tally.round_moves == 0 {
         return;
     }
-    let measured = Shape::of(&positions.points);
+    let mut measured = Shape::of(&positions.points);
     if measured.hull > shape.hull * (1.0 + HULL_GROWTH_TOLERANCE) + 1e-12 {
         tally.hull_growth_rounds += 1;
+        tally.hull_growth_max = tally.hull_growth_max.max(measured.hull / shape.hull - 1.0);
     }
+    measured.hull_max = shape.hull_max.max(measured.hull);
     *shape = measured;
 }
 
@@ -62,6 +64,7 @@ impl Shape {
         let (hull, diameter) = P::hull_and_diameter(points);
         Shape {
             hull,
+            hull_max: hull,
             diameter,
             extents: (0..P::DIM).map(|a| e.axis(a)).collect(),
         }

@@ -19,7 +19,7 @@ pub const PARAM_COLUMNS: [(&str, &str); 9] = [
 ];
 
 /// Metric columns of `runs.csv`, after the parameters and the seed.
-pub const METRIC_COLUMNS: [&str; 22] = [
+pub const METRIC_COLUMNS: [&str; 24] = [
     "rounds",
     "activations",
     "moves",
@@ -34,8 +34,10 @@ pub const METRIC_COLUMNS: [&str; 22] = [
     "final_extent_z",
     "hull_area_initial",
     "hull_area_final",
+    "hull_area_max",
     "hull_growth_rounds",
     "hull_grew",
+    "hull_growth_max",
     "committed_hull_growth",
     "terminated",
     "distance",
@@ -138,8 +140,10 @@ pub fn run_row(
         ext(2),
         num(o.hull_initial),
         num(o.hull_final),
+        num(o.hull_max),
         o.hull_growth_rounds.to_string(),
         (o.hull_growth_rounds > 0).to_string(),
+        num(o.hull_growth_max),
         o.committed_hull_growth.to_string(),
         o.terminated.map(|t| t.to_string()).unwrap_or_default(),
         num(o.distance),

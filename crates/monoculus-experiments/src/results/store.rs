@@ -208,6 +208,7 @@ impl ResultsDir {
                     parse("rounds")?,
                     row[col(&header, "converged")] == "true",
                 );
+                stats[c].add_hull(parse("hull_growth_max")?);
             }
         }
         let mut out = csv::WriterBuilder::new().from_writer(vec![]);

@@ -9,12 +9,23 @@ pub struct CellStats {
     pub runs: usize,
     /// Converged runs.
     pub converged: usize,
+    /// Runs in which the hull grew at least once.
+    pub hull_grew: usize,
     rho: Vec<f64>,
     tau: Vec<f64>,
     rounds: Vec<f64>,
+    hull_growth: Vec<f64>,
 }
 
 impl CellStats {
+    /// Adds one run's hull: its largest relative growth in one round (0: never grew).
+    pub fn add_hull(&mut self, growth_max: f64) {
+        if growth_max > 0.0 {
+            self.hull_grew += 1;
+            self.hull_growth.push(growth_max);
+        }
+    }
+
     /// Adds one run; rho, tau and rounds count only for converged runs.
     pub fn add(&mut self, rho: f64, tau: f64, rounds: f64, converged: bool) {
         self.runs += 1;
@@ -45,7 +56,7 @@ pub fn quantile(values: &[f64], q: f64) -> f64 {
 }
 
 /// Statistic columns of `summary.csv`.
-pub const SUMMARY_COLUMNS: [&str; 10] = [
+pub const SUMMARY_COLUMNS: [&str; 12] = [
     "runs",
     "converged",
     "rho_median",
@@ -56,6 +67,8 @@ pub const SUMMARY_COLUMNS: [&str; 10] = [
     "tau_q3",
     "rounds_median",
     "rounds_q3",
+    "hull_grew_runs",
+    "hull_growth_max_median",
 ];
 
 /// The header: parameters then statistics.
@@ -78,6 +91,8 @@ pub fn summary_row(mut params: Vec<String>, s: &CellStats) -> Vec<String> {
         num(quantile(&s.tau, 0.75)),
         num(quantile(&s.rounds, 0.5)),
         num(quantile(&s.rounds, 0.75)),
+        s.hull_grew.to_string(),
+        num(quantile(&s.hull_growth, 0.5)),
     ]);
     params
 }

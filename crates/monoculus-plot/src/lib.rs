@@ -1,0 +1,20 @@
+//! Figures from monoculus results, in PNG and SVG, drawn with plotters.
+//!
+//! - [`plot_results`]: from a results folder (`runs.csv`), box plots of rho and tau per
+//!   cell along every swept key, one colour per algorithm: the distributions over seeds
+//!   of the paper's Figures 3 to 6 and the algorithm comparisons of Figures 7 to 10.
+//! - [`plot_trace`]: from a `monoculus trace` CSV, hull, diameter and moving robots
+//!   over rounds; with its positions file, a picture of the run (paths, start and end
+//!   positions, initial and final hull).
+//!
+//! Text is rendered with the bundled DejaVu Sans font (pure Rust, no system fonts).
+
+mod error;
+mod font;
+mod results;
+mod table;
+mod trace;
+
+pub use error::PlotError;
+pub use results::plot_results;
+pub use trace::plot_trace;
