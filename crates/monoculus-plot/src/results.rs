@@ -44,12 +44,36 @@ fn sanitize(s: &str) -> String {
         .to_string()
 }
 
+/// Distinct values in order: numerically if all are numbers, else in order of first
+/// appearance (cell order, which is the config's order).
 fn sort_values(values: &mut Vec<String>) {
-    values.sort_by(|a, b| match (a.parse::<f64>(), b.parse::<f64>()) {
-        (Ok(x), Ok(y)) => x.total_cmp(&y),
-        _ => a.cmp(b),
-    });
-    values.dedup();
+    let mut seen = Vec::new();
+    for v in values.drain(..) {
+        if !seen.contains(&v) {
+            seen.push(v);
+        }
+    }
+    if seen.iter().all(|v| v.parse::<f64>().is_ok()) {
+        seen.sort_by(|a, b| {
+            a.parse::<f64>()
+                .unwrap_or(0.0)
+                .total_cmp(&b.parse::<f64>().unwrap_or(0.0))
+        });
+    }
+    *values = seen;
+}
+
+/// A compact axis label: `{ kind = "uniform", min = 0.1, max = 1.9 }` becomes
+/// `uniform min=0.1 max=1.9`.
+fn short_label(v: &str) -> String {
+    v.trim_start_matches('{')
+        .trim_end_matches('}')
+        .replace("kind = ", "")
+        .replace('"', "")
+        .replace(" = ", "=")
+        .replace(", ", " ")
+        .trim()
+        .to_string()
 }
 
 /// Figures of rho and tau along every swept key of the results folder `dir`, written
@@ -219,7 +243,7 @@ fn draw_boxes<DB: DrawingBackend>(
             ((lo - pad) as f32)..((hi + pad) as f32),
         )
         .map_err(e)?;
-    let labels = fig.categories.clone();
+    let labels: Vec<String> = fig.categories.iter().map(|c| short_label(c)).collect();
     chart
         .configure_mesh()
         .disable_x_mesh()
@@ -268,4 +292,30 @@ fn draw_boxes<DB: DrawingBackend>(
         .map_err(e)?;
     root.present().map_err(e)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn categories_keep_config_order_unless_numeric() {
+        let mut v: Vec<String> = ["fixed", "uniform b", "uniform a", "fixed"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        sort_values(&mut v);
+        assert_eq!(v, ["fixed", "uniform b", "uniform a"]);
+        let mut n: Vec<String> = ["100", "20", "5", "20"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        sort_values(&mut n);
+        assert_eq!(n, ["5", "20", "100"]);
+        assert_eq!(
+            short_label("{ kind = \"uniform\", min = 0.1, max = 1.9 }"),
+            "uniform min=0.1 max=1.9"
+        );
+        assert_eq!(short_label("converge_locality"), "converge_locality");
+    }
 }
