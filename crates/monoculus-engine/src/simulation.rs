@@ -292,6 +292,18 @@ impl<P: IndexPoint> Simulation<P> {
         &self.world
     }
 
+    /// (robots that moved, robots activated) in the last round (ASYNC: in the last
+    /// completed epoch).
+    pub fn round_counts(&self) -> (u64, u64) {
+        match self.world.get_resource::<AsyncClock>() {
+            Some(clock) => (clock.last_epoch.1, clock.last_epoch.0),
+            None => {
+                let tally = self.world.resource::<Tally>();
+                (tally.round_moves, tally.round_activations)
+            }
+        }
+    }
+
     /// Runs one round (Activate, Look, Compute, Move, Measure), or under ASYNC one
     /// event tick (Advance, FinishMoves, FinishComputes, Look, Account).
     pub fn step(&mut self) {

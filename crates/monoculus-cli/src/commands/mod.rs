@@ -4,6 +4,7 @@ mod check;
 mod look;
 mod plot;
 mod run;
+mod stress;
 mod table;
 mod trace;
 
@@ -36,6 +37,8 @@ enum Command {
     Table(table::TableArgs),
     /// Figures (PNG and SVG) from a results folder, or from a trace CSV.
     Plot(plot::PlotArgs),
+    /// Engine throughput: timed FSYNC rounds on a swarm of density 1.
+    Stress(stress::StressArgs),
 }
 
 /// How a command failed: bad input (exit status 2) or anything else (1).
@@ -125,5 +128,6 @@ pub fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Look(a) => look::look(a),
         Command::Table(a) => table::table(a),
         Command::Plot(a) => plot::plot(a),
+        Command::Stress(a) => stress::stress(a),
     }
 }

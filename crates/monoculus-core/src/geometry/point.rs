@@ -39,10 +39,12 @@ pub trait Point:
     /// Dot product.
     fn dot(self, other: Self) -> f64;
     /// Euclidean length.
+    #[inline]
     fn length(self) -> f64 {
         self.dot(self).sqrt()
     }
     /// Squared Euclidean length.
+    #[inline]
     fn length_squared(self) -> f64 {
         self.dot(self)
     }
@@ -53,6 +55,7 @@ pub trait Point:
     /// Length of the cross product (d = 3) or |perp dot| (d = 2): |a||b| sin(angle).
     fn cross_norm(self, other: Self) -> f64;
     /// The unit vector in the direction of `self`; `self` must be non-zero.
+    #[inline]
     fn normalized(self) -> Self {
         self * (1.0 / self.length())
     }
@@ -82,29 +85,37 @@ impl Point for DVec2 {
     const DIM: usize = 2;
     type Frame = DMat2;
 
+    #[inline]
     fn zero() -> Self {
         DVec2::ZERO
     }
+    #[inline]
     fn axis(self, axis: usize) -> f64 {
         self[axis]
     }
+    #[inline]
     fn unit_axis(axis: usize) -> Self {
         let mut v = DVec2::ZERO;
         v[axis] = 1.0;
         v
     }
+    #[inline]
     fn from_slice(coords: &[f64]) -> Self {
         DVec2::new(coords[0], coords[1])
     }
+    #[inline]
     fn dot(self, other: Self) -> f64 {
         DVec2::dot(self, other)
     }
+    #[inline]
     fn cross_norm(self, other: Self) -> f64 {
         self.perp_dot(other).abs()
     }
+    #[inline]
     fn min_by_axis(self, other: Self) -> Self {
         self.min(other)
     }
+    #[inline]
     fn max_by_axis(self, other: Self) -> Self {
         self.max(other)
     }
@@ -120,9 +131,11 @@ impl Point for DVec2 {
             rotation
         }
     }
+    #[inline]
     fn to_local(frame: &DMat2, v: Self) -> Self {
         frame.transpose() * v
     }
+    #[inline]
     fn to_global(frame: &DMat2, v: Self) -> Self {
         *frame * v
     }
@@ -135,29 +148,37 @@ impl Point for DVec3 {
     const DIM: usize = 3;
     type Frame = DMat3;
 
+    #[inline]
     fn zero() -> Self {
         DVec3::ZERO
     }
+    #[inline]
     fn axis(self, axis: usize) -> f64 {
         self[axis]
     }
+    #[inline]
     fn unit_axis(axis: usize) -> Self {
         let mut v = DVec3::ZERO;
         v[axis] = 1.0;
         v
     }
+    #[inline]
     fn from_slice(coords: &[f64]) -> Self {
         DVec3::new(coords[0], coords[1], coords[2])
     }
+    #[inline]
     fn dot(self, other: Self) -> f64 {
         DVec3::dot(self, other)
     }
+    #[inline]
     fn cross_norm(self, other: Self) -> f64 {
         self.cross(other).length()
     }
+    #[inline]
     fn min_by_axis(self, other: Self) -> Self {
         self.min(other)
     }
+    #[inline]
     fn max_by_axis(self, other: Self) -> Self {
         self.max(other)
     }
@@ -177,9 +198,11 @@ impl Point for DVec3 {
             rotation
         }
     }
+    #[inline]
     fn to_local(frame: &DMat3, v: Self) -> Self {
         frame.transpose() * v
     }
+    #[inline]
     fn to_global(frame: &DMat3, v: Self) -> Self {
         *frame * v
     }
@@ -196,6 +219,7 @@ impl Point for DVec3 {
 
 /// The angle between two non-zero vectors, in [0, pi], computed as
 /// `atan2(|a x b|, a . b)`, which stays accurate for tiny angles (unlike `acos`).
+#[inline]
 pub fn angle_between<P: Point>(a: P, b: P) -> f64 {
     a.cross_norm(b).atan2(a.dot(b))
 }

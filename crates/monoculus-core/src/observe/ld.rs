@@ -76,16 +76,11 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
     /// The direction of a uniformly random visible far point, if any.
     pub fn random_far(&self, stream: &mut Stream) -> Option<P> {
         let n = self.sight.len();
-        if self
-            .sight
-            .count_within(self.me, self.perception.far_threshold(self.locality))
-            + 1
-            >= n
-        {
-            return None; // nobody can be perceived far
-        }
         let far = |j: usize| self.is_far(j);
-        sample_visible_point(self.sight, self.me, &far, stream).map(|j| self.local(j))
+        // Robots at the threshold or closer are never perceived far.
+        let threshold = self.perception.far_threshold(self.locality);
+        let nobody = || self.sight.count_within(self.me, threshold) + 1 >= n;
+        sample_visible_point(self.sight, self.me, &far, &nobody, stream).map(|j| self.local(j))
     }
 
     /// Every visible point, in unspecified order. Costs a full look (O(n log n)).

@@ -30,10 +30,14 @@ pub const REJECTION_DRAWS: usize = 32;
 
 /// A uniformly random visible point from robot `me` among the robots `eligible`
 /// accepts; `None` if there is none.
+///
+/// `nobody` is asked only if every draw missed: a cheap proof that no robot is
+/// eligible, which spares the full listing (the stream is not used after a `None`).
 pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     sight: &S,
     me: usize,
     eligible: &dyn Fn(usize) -> bool,
+    nobody: &dyn Fn() -> bool,
     stream: &mut Stream,
 ) -> Option<usize> {
     let n = sight.len();
@@ -46,6 +50,9 @@ pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
             return Some(j);
         }
     }
+    if nobody() {
+        return None;
+    }
     let all: Vec<usize> = (0..n)
         .filter(|&j| j != me && eligible(j) && sight.is_visible_point(me, j))
         .collect();
@@ -56,13 +63,26 @@ pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     }
 }
 
-/// The number of visible points from `me`, counted up to `limit`, walking the robots
-/// nearest first (in general position the first `limit` robots are the answer).
+/// The number of visible points from `me`, counted up to `limit`, and (if it is 1) the
+/// visible one. The count does not depend on the order robots are tried in: first the
+/// sight's [`Sight::neighbours`] (in general position two of them are visible and the
+/// answer is found at once), then, if those do not reach `limit`, every robot nearest
+/// first.
 pub(crate) fn count_visible_up_to<P: Point, S: Sight<P> + ?Sized>(
     sight: &S,
     me: usize,
     limit: usize,
 ) -> (usize, Option<usize>) {
+    let near = sight.neighbours(me);
+    if near
+        .iter()
+        .filter(|&&j| sight.is_visible_point(me, j))
+        .take(limit)
+        .count()
+        >= limit
+    {
+        return (limit, None);
+    }
     let mut count = 0;
     let mut first = None;
     for j in sight.nearest_first(me) {

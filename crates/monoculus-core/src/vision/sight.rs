@@ -31,6 +31,13 @@ pub trait Sight<P: Point>: Sync {
     /// Robots other than `i`, nearest first (ties in any order).
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_>;
 
+    /// A few robots near robot `i`, in any order (possibly none): candidates tried first
+    /// when counting visible points. Any answer gives the same results; a good one (the
+    /// robots of the surrounding cells) spares a nearest-first scan.
+    fn neighbours(&self, _i: usize) -> Vec<usize> {
+        Vec::new()
+    }
+
     /// Every visible point from robot `i` as its representative robot, ascending.
     fn visible_points(&self, i: usize) -> Vec<usize>;
 

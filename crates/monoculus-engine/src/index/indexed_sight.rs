@@ -10,7 +10,7 @@ use monoculus_core::vision::{
 };
 use rstar::{RTree, primitives::GeomWithData};
 
-use super::{IndexPoint, Tube};
+use super::{IndexPoint, SegmentGrid, Tube};
 
 /// One snapshot of the swarm with an R-tree over it.
 ///
@@ -24,6 +24,8 @@ pub struct IndexedSight<P: IndexPoint> {
     /// Built on the first visibility question: many activations (OLA inner robots)
     /// need only the bounding box.
     tree: OnceLock<RTree<GeomWithData<P::Array, u32>>>,
+    /// In the plane, lines of sight are walked through a uniform grid (built on first use).
+    grid: OnceLock<SegmentGrid>,
     vision: VisionParams,
     bounds: (P, P),
 }
@@ -35,9 +37,14 @@ impl<P: IndexPoint> IndexedSight<P> {
         IndexedSight {
             positions,
             tree: OnceLock::new(),
+            grid: OnceLock::new(),
             vision,
             bounds,
         }
+    }
+
+    fn grid(&self) -> &SegmentGrid {
+        self.grid.get_or_init(|| SegmentGrid::new(&self.positions))
     }
 
     fn tree(&self) -> &RTree<GeomWithData<P::Array, u32>> {
@@ -76,6 +83,9 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
         if i == j || !distinct(p, q, &self.vision) {
             return false;
         }
+        if P::DIM == 2 {
+            return !self.grid().blocked(&self.positions, i, j, &self.vision);
+        }
         let tube = Tube::new(p, q, self.vision.eps_ang);
         !self
             .tree()
@@ -88,6 +98,16 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
 
     fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
         let p = self.positions[i];
+        if P::DIM == 2 {
+            // The same exact test as the oracle, on the grid's candidates.
+            self.grid()
+                .for_each_near(p.axis(0), p.axis(1), radius, &mut |k, _| {
+                    if k != i && (self.positions[k] - p).length() <= radius {
+                        f(k);
+                    }
+                });
+            return;
+        }
         // Ask the tree for a slightly larger radius, then decide with the same test as
         // the oracle, so both agree on points at the boundary.
         let r2 = radius * radius * (1.0 + 1e-12) + f64::MIN_POSITIVE;
@@ -107,6 +127,21 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
                 .map(|leaf| leaf.data as usize)
                 .filter(move |&k| k != i),
         )
+    }
+
+    fn neighbours(&self, i: usize) -> Vec<usize> {
+        if P::DIM != 2 {
+            return Vec::new();
+        }
+        let p = self.positions[i];
+        let mut out = Vec::new();
+        let grid = self.grid();
+        grid.for_each_near(p.axis(0), p.axis(1), grid.cell_size(), &mut |k, _| {
+            if k != i {
+                out.push(k);
+            }
+        });
+        out
     }
 
     fn visible_points(&self, i: usize) -> Vec<usize> {

@@ -26,6 +26,11 @@ impl<P: IndexPoint> Tube<P> {
         Tube { p, q, tol }
     }
 
+    /// The radius around the segment within which a blocker can lie.
+    pub fn tolerance(&self) -> f64 {
+        self.tol
+    }
+
     /// Whether the segment, widened by `tol`, meets the box [lo, hi] (slab test).
     pub fn meets(&self, lo: &[f64], hi: &[f64]) -> bool {
         let (mut t0, mut t1) = (0.0f64, 1.0f64);
