@@ -99,6 +99,11 @@ pub struct Tally {
     pub committed_hull_growth: u64,
 }
 
+/// The vertices of the current hull of the positions (plane only; see
+/// [`HullGeometry::hull_vertices`](monoculus_core::geometry::HullGeometry)).
+#[derive(Resource, Clone, Debug)]
+pub struct HullVertices<P: IndexPoint>(pub Vec<P>);
+
 /// The shape of the configuration, measured after every round.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct Shape {

@@ -15,6 +15,17 @@ pub trait HullGeometry: Point {
     fn hull_and_diameter(points: &[Self]) -> (f64, f64) {
         (Self::hull_measure(points), Self::diameter(points))
     }
+    /// The vertices of the convex hull, in an order [`HullGeometry::strictly_inside`]
+    /// understands (empty where no fast inside test exists).
+    fn hull_vertices(_points: &[Self]) -> Vec<Self> {
+        Vec::new()
+    }
+    /// Whether `p` lies strictly inside the hull with these vertices, by a margin that
+    /// rounding cannot cross; `false` when unsure. Adding such points to a set leaves
+    /// its hull exactly as it is.
+    fn strictly_inside(_hull: &[Self], _p: Self) -> bool {
+        false
+    }
 }
 
 /// The convex hull of a planar point set, counter-clockwise, without collinear
@@ -85,6 +96,38 @@ impl HullGeometry for DVec2 {
         let hull = convex_hull_2d(points);
         (polygon_area(&hull), hull_diameter(&hull))
     }
+
+    fn hull_vertices(points: &[Self]) -> Vec<Self> {
+        convex_hull_2d(points)
+    }
+
+    /// O(log h): find the wedge from vertex 0 containing `p`, then test the edge.
+    fn strictly_inside(hull: &[Self], p: Self) -> bool {
+        let h = hull.len();
+        if h < 3 {
+            return false;
+        }
+        let scale = hull
+            .iter()
+            .fold(p.abs().max_element(), |m, v| m.max(v.abs().max_element()));
+        let margin = 1e-9 * scale * scale;
+        let o = hull[0];
+        let cross = |a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+        // Counter-clockwise: p must be left of o->hull[1] and right of o->hull[h-1].
+        if cross(hull[1], p) <= margin || cross(hull[h - 1], p) >= -margin {
+            return false;
+        }
+        let (mut lo, mut hi) = (1, h - 1);
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if cross(hull[mid], p) > 0.0 {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        (hull[hi] - hull[lo]).perp_dot(p - hull[lo]) > margin
+    }
 }
 
 #[cfg(test)]
@@ -106,6 +149,30 @@ mod tests {
         assert_eq!(hull.len(), 4);
         assert!((DVec2::hull_measure(&pts) - 4.0).abs() < 1e-12);
         assert!((DVec2::diameter(&pts) - 8f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn strictly_inside_agrees_with_hull_growth() {
+        let mut s = crate::rng::Stream::new(8, 8, 8, 8);
+        let pts: Vec<DVec2> = (0..200)
+            .map(|_| DVec2::new(s.uniform_in(0.0, 10.0), s.uniform_in(0.0, 5.0)))
+            .collect();
+        let hull = DVec2::hull_vertices(&pts);
+        let area = DVec2::hull_measure(&pts);
+        for _ in 0..2000 {
+            let q = DVec2::new(s.uniform_in(-1.0, 11.0), s.uniform_in(-1.0, 6.0));
+            let mut with = pts.clone();
+            with.push(q);
+            if DVec2::strictly_inside(&hull, q) {
+                assert_eq!(DVec2::hull_measure(&with).to_bits(), area.to_bits(), "{q}");
+            } else {
+                assert!(DVec2::hull_measure(&with) >= area);
+            }
+        }
+        assert!(
+            !DVec2::strictly_inside(&hull, hull[0]),
+            "a vertex is not strictly inside"
+        );
     }
 
     #[test]

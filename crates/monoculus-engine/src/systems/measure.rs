@@ -2,7 +2,7 @@ use bevy_ecs::prelude::*;
 
 use crate::IndexPoint;
 use crate::components::{Activated, Intent, Robot};
-use crate::resources::{Clock, Positions, Shape, Tally};
+use crate::resources::{Clock, HullVertices, Positions, Shape, Tally};
 
 /// Relative tolerance for "the hull grew": moving inside the hull changes its area only
 /// by rounding.
@@ -13,12 +13,21 @@ pub const HULL_GROWTH_TOLERANCE: f64 = 1e-9;
 pub fn measure_shape<P: IndexPoint>(
     positions: Res<Positions<P>>,
     mut shape: ResMut<Shape>,
+    mut hull: ResMut<HullVertices<P>>,
     mut tally: ResMut<Tally>,
 ) {
     if tally.round_moves == 0 {
         return;
     }
-    let mut measured = Shape::of(&positions.points);
+    hull.0 = P::hull_vertices(&positions.points);
+    // Area, diameter and extents are those of the hull's vertices (the same vertex
+    // sequence, so the same values to the bit); in space there is no vertex list.
+    let basis = if hull.0.is_empty() {
+        &positions.points
+    } else {
+        &hull.0
+    };
+    let mut measured = Shape::of(basis);
     if measured.hull > shape.hull * (1.0 + HULL_GROWTH_TOLERANCE) + 1e-12 {
         tally.hull_growth_rounds += 1;
         tally.hull_growth_max = tally.hull_growth_max.max(measured.hull / shape.hull - 1.0);
@@ -34,6 +43,7 @@ pub fn measure_shape<P: IndexPoint>(
 pub fn measure_committed<P: IndexPoint>(
     positions: Res<Positions<P>>,
     shape: Res<Shape>,
+    hull: Res<HullVertices<P>>,
     mut tally: ResMut<Tally>,
     robots: Query<(&Robot, &Activated, &Intent<P>)>,
 ) {
@@ -43,7 +53,9 @@ pub fn measure_committed<P: IndexPoint>(
             pts.push(positions.points[robot.index as usize] + d);
         }
     }
-    if pts.is_empty() {
+    // Destinations strictly inside the current hull leave it exactly as it is: the
+    // common case, decided without recomputing the hull.
+    if pts.iter().all(|&d| P::strictly_inside(&hull.0, d)) {
         return;
     }
     pts.extend_from_slice(&positions.points);
