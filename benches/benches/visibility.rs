@@ -5,7 +5,7 @@ use monoculus_benches::{lattice, paper_config, unit_density};
 use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::{Sight, VisionParams, visible_points_sweep_2d};
-use monoculus_engine::{IndexedSight, Simulation};
+use monoculus_engine::{IndexedSight, SegmentGrid, Simulation};
 use std::hint::black_box;
 
 fn queries(c: &mut Criterion) {
@@ -41,8 +41,15 @@ fn index_build(c: &mut Criterion) {
     let mut g = c.benchmark_group("index");
     for n in [1_000usize, 10_000, 100_000] {
         let pts = unit_density(n, 2);
-        g.bench_with_input(BenchmarkId::new("bulk_load", n), &pts, |b, pts| {
-            b.iter(|| IndexedSight::new(black_box(pts.clone()), VisionParams::default()))
+        g.bench_with_input(BenchmarkId::new("rtree_bulk_load", n), &pts, |b, pts| {
+            b.iter(|| {
+                // Force the lazily built R-tree with one nearest-neighbour query.
+                let s = IndexedSight::new(black_box(pts.clone()), VisionParams::default());
+                s.nearest_first(0).next()
+            })
+        });
+        g.bench_with_input(BenchmarkId::new("segment_grid", n), &pts, |b, pts| {
+            b.iter(|| SegmentGrid::new(black_box(pts)))
         });
     }
     g.finish();
@@ -51,11 +58,15 @@ fn index_build(c: &mut Criterion) {
 fn one_round(c: &mut Criterion) {
     let mut g = c.benchmark_group("round");
     g.sample_size(10);
-    for kind in [
-        AlgorithmKind::ConvergeLocality,
-        AlgorithmKind::ConvergeQuadrant,
-    ] {
-        for n in [1_000usize, 10_000, 100_000] {
+    for kind in AlgorithmKind::ALL {
+        // The baselines look at every visible robot (O(n^2) per round): small n only.
+        let sizes: &[usize] = match kind {
+            AlgorithmKind::CenterOfGravity
+            | AlgorithmKind::Median
+            | AlgorithmKind::AngleBisector => &[1_000],
+            _ => &[1_000, 10_000, 100_000],
+        };
+        for &n in sizes {
             let pts = unit_density(n, 3);
             g.bench_with_input(BenchmarkId::new(kind.name(), n), &pts, |b, pts| {
                 b.iter_batched(

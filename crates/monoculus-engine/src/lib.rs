@@ -40,7 +40,7 @@ pub mod systems;
 
 pub use asynchrony::{AsyncSpec, AsyncStart, TickDist};
 pub use error::EngineError;
-pub use index::{IndexPoint, IndexedSight, Tube};
+pub use index::{IndexPoint, IndexedSight, SegmentGrid, Tube};
 pub use resources::SightBackend;
 pub use scheduler::{SchedulerSpec, SequentialOrder};
 pub use simulation::{RoundReport, RunOutcome, SimConfig, Simulation};

@@ -44,6 +44,19 @@ fn sweep_and_rtree_match_the_definition() {
                 exact.for_each_within(i, 2.0, &mut |k| near_b.push(k));
                 near_a.sort_unstable();
                 assert_eq!(near_a, near_b, "{name}: radius query");
+                for radius in [0.5, 2.0, 7.0] {
+                    let mut a = vec![];
+                    indexed.for_each_beyond(i, radius, &mut |k| a.push(k));
+                    let mut b = vec![];
+                    exact.for_each_beyond(i, radius, &mut |k| b.push(k));
+                    a.sort_unstable();
+                    assert_eq!(a, b, "{name}: robots beyond {radius}");
+                }
+                let (fa, fb) = (indexed.farthest(i), exact.farthest(i));
+                assert!(
+                    (fa - fb).abs() <= 1e-12 * fb.max(1.0),
+                    "{name}: farthest {fa} vs {fb}"
+                );
                 let dist = |k: usize| pts[k].distance(pts[i]);
                 let order: Vec<f64> = indexed.nearest_first(i).map(dist).collect();
                 assert_eq!(order.len(), pts.len() - 1);

@@ -79,8 +79,22 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
         let far = |j: usize| self.is_far(j);
         // Robots at the threshold or closer are never perceived far.
         let threshold = self.perception.far_threshold(self.locality);
-        let nobody = || self.sight.count_within(self.me, threshold) + 1 >= n;
-        sample_visible_point(self.sight, self.me, &far, &nobody, stream).map(|j| self.local(j))
+        // Nobody is farther than the threshold iff the farthest robot is not: decided
+        // from the farthest distance unless rounding could matter, then by counting.
+        let nobody = || {
+            let farthest = self.sight.farthest(self.me);
+            let guard = 1e-12 * (farthest + threshold);
+            if farthest > threshold + guard {
+                false
+            } else if farthest + guard <= threshold {
+                true
+            } else {
+                self.sight.count_within(self.me, threshold) + 1 >= n
+            }
+        };
+        let beyond = |f: &mut dyn FnMut(usize)| self.sight.for_each_beyond(self.me, threshold, f);
+        sample_visible_point(self.sight, self.me, &far, &nobody, Some(&beyond), stream)
+            .map(|j| self.local(j))
     }
 
     /// Every visible point, in unspecified order. Costs a full look (O(n log n)).

@@ -33,11 +33,15 @@ pub const REJECTION_DRAWS: usize = 32;
 ///
 /// `nobody` is asked only if every draw missed: a cheap proof that no robot is
 /// eligible, which spares the full listing (the stream is not used after a `None`).
+///
+/// `candidates`, if given, lists a superset of the eligible robots (in any order) for
+/// the full listing, which is then sorted, so the choice is the same as over all robots.
 pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     sight: &S,
     me: usize,
     eligible: &dyn Fn(usize) -> bool,
     nobody: &dyn Fn() -> bool,
+    candidates: Option<&dyn Fn(&mut dyn FnMut(usize))>,
     stream: &mut Stream,
 ) -> Option<usize> {
     let n = sight.len();
@@ -53,7 +57,17 @@ pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     if nobody() {
         return None;
     }
-    let all: Vec<usize> = (0..n)
+    let pool: Vec<usize> = match candidates {
+        Some(list) => {
+            let mut v = Vec::new();
+            list(&mut |j| v.push(j));
+            v.sort_unstable();
+            v
+        }
+        None => (0..n).collect(),
+    };
+    let all: Vec<usize> = pool
+        .into_iter()
         .filter(|&j| j != me && eligible(j) && sight.is_visible_point(me, j))
         .collect();
     if all.is_empty() {

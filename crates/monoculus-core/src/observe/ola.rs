@@ -155,7 +155,8 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
                 .iter()
                 .all(|&(k, side)| side.sign() * self.frame.local_coord(d, k) >= -eps)
         };
-        sample_visible_point(self.sight, self.me, &inside, &|| false, stream).map(|j| self.local(j))
+        sample_visible_point(self.sight, self.me, &inside, &|| false, None, stream)
+            .map(|j| self.local(j))
     }
 
     /// Every visible point's local direction, in unspecified order (a full look).

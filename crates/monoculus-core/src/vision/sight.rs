@@ -41,6 +41,26 @@ pub trait Sight<P: Point>: Sync {
     /// Every visible point from robot `i` as its representative robot, ascending.
     fn visible_points(&self, i: usize) -> Vec<usize>;
 
+    /// The largest distance from robot `i` to any robot.
+    fn farthest(&self, i: usize) -> f64 {
+        let p = self.positions()[i];
+        self.positions()
+            .iter()
+            .map(|&q| (q - p).length())
+            .fold(0.0, f64::max)
+    }
+
+    /// Calls `f` with every robot farther than `radius` from robot `i`, in unspecified
+    /// order.
+    fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        let p = self.positions()[i];
+        for (k, &q) in self.positions().iter().enumerate() {
+            if (q - p).length() > radius {
+                f(k);
+            }
+        }
+    }
+
     /// Number of robots.
     fn len(&self) -> usize {
         self.positions().len()

@@ -26,6 +26,8 @@ pub struct IndexedSight<P: IndexPoint> {
     tree: OnceLock<RTree<GeomWithData<P::Array, u32>>>,
     /// In the plane, lines of sight are walked through a uniform grid (built on first use).
     grid: OnceLock<SegmentGrid>,
+    /// Hull vertices (plane), for farthest-robot questions (built on first use).
+    hull: OnceLock<Vec<P>>,
     vision: VisionParams,
     bounds: (P, P),
 }
@@ -38,6 +40,7 @@ impl<P: IndexPoint> IndexedSight<P> {
             positions,
             tree: OnceLock::new(),
             grid: OnceLock::new(),
+            hull: OnceLock::new(),
             vision,
             bounds,
         }
@@ -129,6 +132,33 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
         )
     }
 
+    /// The farthest robot is a hull vertex: O(h) after the hull (O(n log n), once).
+    fn farthest(&self, i: usize) -> f64 {
+        let p = self.positions[i];
+        let hull = self.hull.get_or_init(|| P::hull_vertices(&self.positions));
+        let set: &[P] = if hull.is_empty() {
+            &self.positions
+        } else {
+            hull
+        };
+        set.iter().map(|&q| (q - p).length()).fold(0.0, f64::max)
+    }
+
+    /// R-tree nodes entirely within `radius` are skipped: O(robots beyond + boundary).
+    fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        let p = self.positions[i];
+        let selection = Beyond::<P> {
+            centre: p.to_array(),
+            radius2: radius * radius * (1.0 - 1e-12),
+        };
+        for leaf in self.tree().locate_with_selection_function(selection) {
+            let k = leaf.data as usize;
+            if (self.positions[k] - p).length() > radius {
+                f(k);
+            }
+        }
+    }
+
     fn neighbours(&self, i: usize) -> Vec<usize> {
         if P::DIM != 2 {
             return Vec::new();
@@ -152,5 +182,27 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
             .filter(|&j| self.sees(i, j))
             .collect();
         representatives(&self.positions, &seen, &self.vision)
+    }
+}
+
+/// Selects the leaves that may lie farther than a radius from a centre: a node is
+/// opened unless its whole box is within the radius (slightly shrunk, so rounding never
+/// prunes a robot the exact test would keep).
+struct Beyond<P: IndexPoint> {
+    centre: P::Array,
+    radius2: f64,
+}
+
+impl<P: IndexPoint> rstar::SelectionFunction<GeomWithData<P::Array, u32>> for Beyond<P> {
+    fn should_unpack_parent(&self, envelope: &rstar::AABB<P::Array>) -> bool {
+        use rstar::Point as _;
+        let (lo, hi) = (envelope.lower(), envelope.upper());
+        let mut far2 = 0.0;
+        for a in 0..P::DIM {
+            let c = self.centre.nth(a);
+            let d = (c - lo.nth(a)).abs().max((hi.nth(a) - c).abs());
+            far2 += d * d;
+        }
+        far2 > self.radius2
     }
 }
