@@ -25,6 +25,9 @@ use crate::geometry::Point;
 use crate::rng::Stream;
 use crate::vision::Sight;
 
+/// Lists robots by calling the given function with each.
+pub(crate) type Enumerate<'a> = &'a dyn Fn(&mut dyn FnMut(usize));
+
 /// How many uniform draws the target sampler makes before it lists every eligible point.
 pub const REJECTION_DRAWS: usize = 32;
 
@@ -41,7 +44,7 @@ pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     me: usize,
     eligible: &dyn Fn(usize) -> bool,
     nobody: &dyn Fn() -> bool,
-    candidates: Option<&dyn Fn(&mut dyn FnMut(usize))>,
+    candidates: Option<Enumerate<'_>>,
     stream: &mut Stream,
 ) -> Option<usize> {
     let n = sight.len();
