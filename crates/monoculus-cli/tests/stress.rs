@@ -1,0 +1,72 @@
+//! `monoculus stress`: the throughput report and its last line.
+
+use std::process::Command;
+
+fn monoculus(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_monoculus"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn stress_reports_rounds_memory_and_throughput_last() {
+    for algorithm in ["converge_locality", "converge_quadrant"] {
+        let out = monoculus(&[
+            "stress",
+            "--n",
+            "2000",
+            "--rounds",
+            "2",
+            "--algorithm",
+            algorithm,
+            "--threads",
+            "2",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(
+            lines[0].starts_with("round 1: ") && lines[1].starts_with("round 2: "),
+            "{text}"
+        );
+        let last = lines.last().unwrap();
+        let rate: f64 = last
+            .strip_prefix("activations_per_s=")
+            .expect("last line")
+            .parse()
+            .unwrap();
+        assert!(rate > 0.0);
+        assert!(
+            text.contains("2000 activations"),
+            "FSYNC activates everybody: {text}"
+        );
+    }
+    let lattice = monoculus(&["stress", "--n", "900", "--rounds", "1", "--init", "lattice"]);
+    assert!(lattice.status.success());
+}
+
+#[test]
+fn stress_rejects_bad_arguments() {
+    for args in [
+        &["stress", "--n", "0", "--rounds", "1"][..],
+        &[
+            "stress",
+            "--n",
+            "10",
+            "--rounds",
+            "1",
+            "--algorithm",
+            "teleport",
+        ][..],
+        &["stress", "--n", "10"][..],
+    ] {
+        let out = monoculus(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    }
+}
