@@ -1,10 +1,9 @@
 //! Seeded fixtures shared by the benchmarks (built outside the timed loops).
 
 use glam::DVec2;
-use monoculus_core::algorithms::{AlgorithmKind, AlgorithmParams};
+use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::init::{InitShape, generate};
-use monoculus_core::vision::VisionParams;
-use monoculus_engine::{SchedulerSpec, SightBackend, SimConfig, StopCriterion, StopSpec};
+use monoculus_engine::SimConfig;
 
 /// `n` robots uniform in a square of density 1 (side sqrt(n)), as `monoculus stress`.
 pub fn unit_density(n: usize, seed: u64) -> Vec<DVec2> {
@@ -30,16 +29,5 @@ pub fn lattice(n: usize) -> Vec<DVec2> {
 
 /// The paper's parameters (b = 1, c = 2), FSYNC, default stop criterion.
 pub fn paper_config(kind: AlgorithmKind, seed: u64) -> SimConfig {
-    SimConfig {
-        algorithm: AlgorithmParams::new(kind, 1.0, 2.0),
-        vision: VisionParams::for_step(1.0),
-        backend: SightBackend::Index,
-        scheduler: SchedulerSpec::Fsync,
-        stop: StopSpec {
-            criterion: StopCriterion::default_for(kind),
-            max_rounds: 1_000_000,
-        },
-        seed,
-        movement: monoculus_core::errors::MovementErrors::NONE,
-    }
+    SimConfig::paper(kind, seed, 1_000_000)
 }

@@ -42,6 +42,29 @@ pub struct SimConfig {
     pub movement: MovementErrors,
 }
 
+impl SimConfig {
+    /// The paper's setting for `kind`: b = 1, c = 2, FSYNC, the default stop criterion
+    /// with a cap of `max_rounds`, the R-tree backend, no errors.
+    pub fn paper(
+        kind: monoculus_core::algorithms::AlgorithmKind,
+        seed: u64,
+        max_rounds: u64,
+    ) -> Self {
+        SimConfig {
+            algorithm: AlgorithmParams::new(kind, 1.0, 2.0),
+            vision: VisionParams::for_step(1.0),
+            backend: SightBackend::Index,
+            scheduler: SchedulerSpec::Fsync,
+            stop: StopSpec {
+                criterion: StopCriterion::default_for(kind),
+                max_rounds,
+            },
+            seed,
+            movement: MovementErrors::NONE,
+        }
+    }
+}
+
 /// The state after a round, for traces.
 #[derive(Debug)]
 pub struct RoundReport<'a, P> {

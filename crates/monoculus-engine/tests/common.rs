@@ -7,18 +7,9 @@ use monoculus_core::prelude::*;
 use monoculus_engine::prelude::*;
 
 pub fn config(kind: AlgorithmKind, scheduler: SchedulerSpec, seed: u64) -> SimConfig {
-    let algorithm = AlgorithmParams::new(kind, 1.0, 2.0);
     SimConfig {
-        algorithm,
-        vision: VisionParams::for_step(1.0),
-        backend: SightBackend::Index,
         scheduler,
-        stop: StopSpec {
-            criterion: StopCriterion::default_for(kind),
-            max_rounds: 20_000,
-        },
-        seed,
-        movement: monoculus_core::errors::MovementErrors::NONE,
+        ..SimConfig::paper(kind, seed, 20_000)
     }
 }
 

@@ -1,13 +1,9 @@
 use std::time::Instant;
 
 use glam::DVec2;
-use monoculus_core::algorithms::{AlgorithmKind, AlgorithmParams};
-use monoculus_core::errors::MovementErrors;
+use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::init::{InitShape, generate};
-use monoculus_core::vision::VisionParams;
-use monoculus_engine::{
-    SchedulerSpec, SightBackend, SimConfig, Simulation, StopCriterion, StopSpec,
-};
+use monoculus_engine::{SimConfig, Simulation};
 
 use super::{Failure, thread_pool};
 
@@ -74,18 +70,7 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
     };
     let setup = Instant::now();
     let start: Vec<DVec2> = generate(&shape, args.n, args.seed);
-    let config = SimConfig {
-        algorithm: AlgorithmParams::new(kind, 1.0, 2.0),
-        vision: VisionParams::for_step(1.0),
-        backend: SightBackend::Index,
-        scheduler: SchedulerSpec::Fsync,
-        stop: StopSpec {
-            criterion: StopCriterion::default_for(kind),
-            max_rounds: u64::MAX,
-        },
-        seed: args.seed,
-        movement: MovementErrors::NONE,
-    };
+    let config = SimConfig::paper(kind, args.seed, u64::MAX);
     let mut sim = Simulation::new(config, start).map_err(|e| Failure::Input(e.to_string()))?;
     eprintln!(
         "stress: {} robots, {} FSYNC rounds of {}, {} threads (setup {:.2} s)",
