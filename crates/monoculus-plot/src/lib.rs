@@ -11,6 +11,7 @@
 
 mod error;
 mod font;
+mod legend;
 mod results;
 mod table;
 mod trace;

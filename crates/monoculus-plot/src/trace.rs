@@ -223,13 +223,6 @@ fn draw_run<DB: DrawingBackend>(
             .label(label)
             .legend(move |(x, y)| Circle::new((x + 7, y), 4, color.filled()));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()
-        .map_err(e)?;
+    crate::legend::draw_legend(&mut chart)?;
     root.present().map_err(e)
 }

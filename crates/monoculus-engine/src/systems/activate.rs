@@ -15,10 +15,8 @@ pub fn activate_robots(
 ) {
     let seed = params.seed;
     let round = clock.round;
-    let n = robots.iter().count();
-    if n == 0 {
-        return;
-    }
+    // Only the schedulers that pick robots by index need n: FSYNC skips the pass.
+    let count = |robots: &Query<(&Robot, &mut Activated, &mut Waiting)>| robots.iter().count();
     match params.scheduler {
         SchedulerSpec::Fsync => {
             for (_, mut active, _) in &mut robots {
@@ -35,6 +33,7 @@ pub fn activate_robots(
                 any |= active.0;
             }
             if !any {
+                let n = count(&robots);
                 let pick = Stream::keyed(seed, Purpose::Activate, u64::MAX, round).below(n) as u32;
                 for (robot, mut active, _) in &mut robots {
                     active.0 = robot.index == pick;
@@ -48,6 +47,10 @@ pub fn activate_robots(
             unreachable!("round systems do not run under the async scheduler")
         }
         SchedulerSpec::Sequential { order } => {
+            let n = count(&robots);
+            if n == 0 {
+                return;
+            }
             let slot = (round % n as u64) as usize;
             let pick = match order {
                 SequentialOrder::RoundRobin => slot,
