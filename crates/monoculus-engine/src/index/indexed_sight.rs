@@ -25,7 +25,7 @@ pub struct IndexedSight<P: IndexPoint> {
     /// need only the bounding box.
     tree: OnceLock<RTree<GeomWithData<P::Array, u32>>>,
     /// In the plane, lines of sight are walked through a uniform grid (built on first use).
-    grid: OnceLock<SegmentGrid>,
+    grid: OnceLock<Box<SegmentGrid>>,
     /// Hull vertices (plane), for farthest-robot questions (built on first use).
     hull: OnceLock<Vec<P>>,
     vision: VisionParams,
@@ -47,7 +47,8 @@ impl<P: IndexPoint> IndexedSight<P> {
     }
 
     fn grid(&self) -> &SegmentGrid {
-        self.grid.get_or_init(|| SegmentGrid::new(&self.positions))
+        self.grid
+            .get_or_init(|| Box::new(SegmentGrid::new(&self.positions)))
     }
 
     fn tree(&self) -> &RTree<GeomWithData<P::Array, u32>> {
@@ -104,7 +105,7 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
         if P::DIM == 2 {
             // The same exact test as the oracle, on the grid's candidates.
             self.grid()
-                .for_each_near(p.axis(0), p.axis(1), radius, &mut |k, _| {
+                .for_each_near(p.axis(0), p.axis(1), radius, &mut |k| {
                     if k != i && (self.positions[k] - p).length() <= radius {
                         f(k);
                     }
@@ -166,7 +167,7 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
         let p = self.positions[i];
         let mut out = Vec::new();
         let grid = self.grid();
-        grid.for_each_near(p.axis(0), p.axis(1), grid.cell_size(), &mut |k, _| {
+        grid.for_each_near(p.axis(0), p.axis(1), grid.cell_size(), &mut |k| {
             if k != i {
                 out.push(k);
             }

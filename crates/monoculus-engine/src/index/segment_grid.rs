@@ -1,37 +1,152 @@
-//! [`SegmentGrid`]: a uniform grid for line-of-sight queries in the plane.
+//! [`SegmentGrid`]: bucketed robots for line-of-sight queries in the plane.
 //!
 //! Measured (`monoculus stress`, n = 10^5, density 1): three quarters of a
 //! ConvergeLocality round went to R-tree traversals of the thin tubes along lines of
 //! sight across the swarm, whose overlapping boxes make a long thin query visit many
-//! nodes. The grid visits only the cells the tube crosses, column by column along the
-//! segment's major axis, and tests their robots with a cheap perpendicular-distance
-//! filter before the exact predicate. Candidates are a superset of the blockers, and
-//! the decision is the shared [`blocks`](monoculus_core::vision::blocks), so answers
-//! are those of the R-tree and of the brute-force oracle (tested).
+//! nodes. A uniform grid visits only the cells the tube crosses; after that, most of
+//! the time went to waiting for memory, cell by cell. So the robots are stored twice,
+//! in horizontal and in vertical bands, each band cut into cells stored one after the
+//! other: a line of sight is walked in the bands running along its major axis, and the
+//! cells it crosses in one band are one contiguous slice of robots, read in one pass
+//! (a few slices per line instead of one random access per cell).
+//!
+//! Candidates pass a cheap perpendicular-distance filter before the exact predicate.
+//! They are a superset of the blockers, and the decision is the shared
+//! [`blocks`](monoculus_core::vision::blocks), so answers are those of the R-tree and
+//! of the brute-force oracle (tested, also with blockers placed at the edge of the
+//! blocking cone across band edges).
 
 use monoculus_core::geometry::Point;
 use monoculus_core::vision::{VisionParams, blocks};
 
 use super::{IndexPoint, Tube};
 
-/// Robots bucketed by grid cell (compressed rows: cell `c` holds
-/// `items[start[c]..start[c + 1]]`, ascending robot indices).
-pub struct SegmentGrid {
+/// Band height and cell width, in units of the mean spacing sqrt(area / n), chosen with
+/// `monoculus stress --n 100000` (thinner bands test fewer robots per line in more
+/// slices; measured best of 0.7 to 3 bands and 0.5 to 2 cells: 2 x 1).
+const BAND: f64 = 2.0;
+const CELL: f64 = 1.0;
+
+/// Robots bucketed in bands across one axis, each band cut into cells along the other
+/// (the run axis), in compressed rows: cell `c` of band `r` holds
+/// `items[start[k]..start[k + 1]]` with `k = r * cells + c`, ascending robot indices, so
+/// consecutive cells of one band are one slice.
+struct Bands {
+    /// The axis a band runs along (0: x, 1: y); bands are stacked along the other.
+    run: usize,
+    /// The smallest coordinate on the run axis and across it.
     origin: [f64; 2],
-    cell: f64,
-    inv_cell: f64,
-    nx: usize,
-    ny: usize,
+    inv_width: f64,
+    height: f64,
+    inv_height: f64,
+    cells: usize,
+    bands: usize,
     start: Vec<u32>,
     items: Vec<u32>,
-    /// The coordinates of `items`, in the same order: a cell's robots are contiguous.
-    coords: Vec<[f64; 2]>,
+    /// The positions of `items`, in the same order, as (x, y) relative to the swarm's
+    /// lower corner in single precision: half the memory to stream through, for a
+    /// filter that widens its tolerance by the rounding (see [`SegmentGrid::blocked`]).
+    coords: Vec<[f32; 2]>,
+}
+
+impl Bands {
+    /// `lo` and `hi` in (x, y) order.
+    fn new<P: Point>(points: &[P], run: usize, lo: [f64; 2], hi: [f64; 2], spacing: f64) -> Self {
+        let across = 1 - run;
+        let (width, height) = (CELL * spacing, BAND * spacing);
+        let cells = ((hi[run] - lo[run]) / width) as usize + 1;
+        let bands = ((hi[across] - lo[across]) / height) as usize + 1;
+        let mut grid = Bands {
+            run,
+            origin: [lo[run], lo[across]],
+            inv_width: 1.0 / width,
+            height,
+            inv_height: 1.0 / height,
+            cells,
+            bands,
+            start: vec![0; cells * bands + 1],
+            items: vec![0; points.len()],
+            coords: vec![[0.0; 2]; points.len()],
+        };
+        let slot: Vec<u32> = points
+            .iter()
+            .map(|p| {
+                let (c, r) = (grid.cell(p.axis(run)), grid.band(p.axis(across)));
+                (r * cells + c) as u32
+            })
+            .collect();
+        for &k in &slot {
+            grid.start[k as usize + 1] += 1;
+        }
+        for k in 0..cells * bands {
+            grid.start[k + 1] += grid.start[k];
+        }
+        let mut fill = grid.start.clone();
+        for (i, &k) in slot.iter().enumerate() {
+            let at = fill[k as usize] as usize;
+            grid.items[at] = i as u32;
+            grid.coords[at] = [
+                (points[i].axis(0) - lo[0]) as f32,
+                (points[i].axis(1) - lo[1]) as f32,
+            ];
+            fill[k as usize] += 1;
+        }
+        grid
+    }
+
+    /// The cell (along the run axis) of coordinate `v`, clamped to the grid (truncation
+    /// equals floor here: negative values clamp to 0).
+    #[inline]
+    fn cell(&self, v: f64) -> usize {
+        let k = (v - self.origin[0]) * self.inv_width;
+        if k <= 0.0 {
+            0
+        } else {
+            (k as usize).min(self.cells - 1)
+        }
+    }
+
+    /// The band of coordinate `v` across the run axis, clamped to the grid.
+    #[inline]
+    fn band(&self, v: f64) -> usize {
+        let k = (v - self.origin[1]) * self.inv_height;
+        if k <= 0.0 {
+            0
+        } else {
+            (k as usize).min(self.bands - 1)
+        }
+    }
+
+    /// The robots of band `r` in the cells meeting `[lo, hi]` on the run axis: indices
+    /// into `items` and `coords`.
+    #[inline]
+    fn slice(&self, r: usize, lo: f64, hi: f64) -> std::ops::Range<usize> {
+        let row = r * self.cells;
+        self.start[row + self.cell(lo)] as usize..self.start[row + self.cell(hi) + 1] as usize
+    }
+}
+
+/// Robots bucketed for line-of-sight walks and radius queries over the first two
+/// coordinates, about one robot per cell.
+pub struct SegmentGrid {
+    /// Horizontal bands (running along x): lines of sight with |dx| >= |dy|, radius
+    /// queries.
+    rows: Bands,
+    /// Vertical bands (running along y): lines of sight with |dy| > |dx|.
+    columns: Bands,
+    spacing: f64,
+    /// The lower corner of the swarm, origin of the stored coordinates.
+    lo: [f64; 2],
+    /// The largest rounding error of a stored coordinate.
+    rounding: f64,
+    /// Whether the stored coordinates are finite (else every robot is a candidate).
+    single: bool,
 }
 
 impl SegmentGrid {
-    /// A grid over the first two coordinates of `points`, about two robots per cell.
+    /// A grid over the first two coordinates of `points`.
     pub fn new<P: Point>(points: &[P]) -> Self {
-        let n = points.len().max(1);
+        let n = points.len().max(1) as f64;
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
             for a in 0..2 {
@@ -39,77 +154,44 @@ impl SegmentGrid {
                 hi[a] = hi[a].max(p.axis(a));
             }
         }
-        let ext = [(hi[0] - lo[0]).max(0.0), (hi[1] - lo[1]).max(0.0)];
+        if points.is_empty() {
+            (lo, hi) = ([0.0; 2], [0.0; 2]);
+        }
+        let ext = [hi[0] - lo[0], hi[1] - lo[1]];
         let longest = ext[0].max(ext[1]);
-        // About two robots per cell, but never more cells than 4n (thin swarms).
-        let by_area = (2.0 * ext[0] * ext[1] / n as f64).sqrt();
-        let cell = by_area
-            .max(longest / (2.0 * n as f64).sqrt())
+        // The mean spacing, but never so small that a thin swarm gets more than about
+        // 4n cells.
+        let spacing = (ext[0] * ext[1] / n)
+            .sqrt()
+            .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);
-        let nx = (ext[0] / cell) as usize + 1;
-        let ny = (ext[1] / cell) as usize + 1;
-        let mut grid = SegmentGrid {
-            origin: lo,
-            cell,
-            inv_cell: 1.0 / cell,
-            nx,
-            ny,
-            start: vec![0; nx * ny + 1],
-            items: vec![0; points.len()],
-            coords: vec![[0.0; 2]; points.len()],
-        };
-        let cells: Vec<usize> = points
-            .iter()
-            .map(|p| grid.cell_of(p.axis(0), p.axis(1)))
-            .collect();
-        for &c in &cells {
-            grid.start[c + 1] += 1;
+        SegmentGrid {
+            rows: Bands::new(points, 0, lo, hi, spacing),
+            columns: Bands::new(points, 1, lo, hi, spacing),
+            spacing,
+            lo,
+            // A relative coordinate r is stored as r(1 + e) with |e| <= 2^-24; the
+            // filter trusts single precision only while coordinates are finite there.
+            rounding: longest * 2f64.powi(-24),
+            single: longest < 1e30,
         }
-        for c in 0..nx * ny {
-            grid.start[c + 1] += grid.start[c];
-        }
-        let mut fill = grid.start.clone();
-        for (i, &c) in cells.iter().enumerate() {
-            grid.items[fill[c] as usize] = i as u32;
-            grid.coords[fill[c] as usize] = [points[i].axis(0), points[i].axis(1)];
-            fill[c] += 1;
-        }
-        grid
     }
 
-    /// The cell index along `axis` of coordinate `v`, clamped to the grid (truncation
-    /// equals floor here: negative values clamp to 0).
-    #[inline]
-    fn clamp(&self, v: f64, axis: usize) -> usize {
-        let k = (v - self.origin[axis]) * self.inv_cell;
-        let max = if axis == 0 { self.nx - 1 } else { self.ny - 1 };
-        if k <= 0.0 { 0 } else { (k as usize).min(max) }
-    }
-
-    /// The side of a cell.
+    /// The mean spacing between robots (the side of a cell).
     pub fn cell_size(&self) -> f64 {
-        self.cell
+        self.spacing
     }
 
     /// Calls `f` with every robot whose cell meets the square of half-side `radius`
     /// around `(x, y)` (a superset of the robots within `radius`).
-    pub fn for_each_near(&self, x: f64, y: f64, radius: f64, f: &mut dyn FnMut(usize, [f64; 2])) {
-        let (c0, c1) = (self.clamp(x - radius, 0), self.clamp(x + radius, 0));
-        let (r0, r1) = (self.clamp(y - radius, 1), self.clamp(y + radius, 1));
-        for row in r0..=r1 {
-            let (a, b) = (
-                self.start[row * self.nx + c0] as usize,
-                self.start[row * self.nx + c1 + 1] as usize,
-            );
-            for k in a..b {
-                f(self.items[k] as usize, self.coords[k]);
+    pub fn for_each_near(&self, x: f64, y: f64, radius: f64, f: &mut dyn FnMut(usize)) {
+        let g = &self.rows;
+        for r in g.band(y - radius)..=g.band(y + radius) {
+            for s in g.slice(r, x - radius, x + radius) {
+                f(g.items[s] as usize);
             }
         }
-    }
-
-    fn cell_of(&self, x: f64, y: f64) -> usize {
-        self.clamp(y, 1) * self.nx + self.clamp(x, 0)
     }
 
     /// Whether some robot other than `i` and `j` blocks the view from `positions[i]` to
@@ -122,52 +204,198 @@ impl SegmentGrid {
         v: &VisionParams,
     ) -> bool {
         let (p, q) = (positions[i], positions[j]);
-        let tol = Tube::new(p, q, v.eps_ang).tolerance();
+        let tube = Tube::new(p, q, v.eps_ang);
+        // Every blocker lies within `tol` of the segment (the blocking cone and room for
+        // rounding in the exact test).
+        let tol = tube.tolerance();
         let d = q - p;
         let len = d.length();
         let (px, py, dx, dy) = (p.axis(0), p.axis(1), d.axis(0), d.axis(1));
-        let (len2, band) = (len * len, 2.0 * tol * len);
-        // Walk along the major axis `a`, one column of cells at a time; in each column
-        // visit the rows the tube can touch.
-        let (a, b) = if d.axis(0).abs() >= d.axis(1).abs() {
-            (0, 1)
+        // The filter below works on stored coordinates, each off by at most `rounding`
+        // (plus double rounding of the shift to the swarm's corner): that moves `along`
+        // and the cross product by at most `slack`.
+        let err = self.rounding
+            + 8.0
+                * f64::EPSILON
+                * (px.abs() + py.abs() + self.lo[0].abs() + self.lo[1].abs() + len);
+        let slack = 2.0 * err * (dx.abs() + dy.abs());
+        let (along_max, band) = (len * len + slack, 2.0 * tol * len + slack);
+        let (rpx, rpy) = (px - self.lo[0], py - self.lo[1]);
+        // Walk the bands running along the major axis `a`.
+        let g = if dx.abs() >= dy.abs() {
+            &self.rows
         } else {
-            (1, 0)
+            &self.columns
         };
+        let (a, b) = (g.run, 1 - g.run);
         let (pa, pb, da, db) = (p.axis(a), p.axis(b), d.axis(a), d.axis(b));
+        // A blocker lies within `tol` of the segment, so within `tol` of its extent on
+        // either axis. Where the line crosses a band edge, a blocker just across the
+        // edge lies within `tol_b * cos / sin` of the crossing along the major axis
+        // (tested); `tol_b = tol` would do, twice that leaves room.
+        let tol_b = 2.0 * tol;
         let (a_lo, a_hi) = (pa.min(pa + da) - tol, pa.max(pa + da) + tol);
-        let (c0, c1) = (self.clamp(a_lo, a), self.clamp(a_hi, a));
-        let slope = if da != 0.0 { db / da } else { 0.0 };
-        for col in c0..=c1 {
-            let x0 = (self.origin[a] + col as f64 * self.cell).max(a_lo);
-            let x1 = (self.origin[a] + (col + 1) as f64 * self.cell).min(a_hi);
-            let (y0, y1) = (pb + slope * (x0 - pa), pb + slope * (x1 - pa));
-            let (r0, r1) = (
-                self.clamp(y0.min(y1) - tol, b),
-                self.clamp(y0.max(y1) + tol, b),
-            );
-            for row in r0..=r1 {
-                let c = if a == 0 {
-                    row * self.nx + col
-                } else {
-                    col * self.nx + row
-                };
-                for s in self.start[c] as usize..self.start[c + 1] as usize {
-                    // Cheap filter on the cell's contiguous coordinates: within twice the
-                    // tube's radius of the line, strictly between p and q.
-                    let [x, y] = self.coords[s];
-                    let (rx, ry) = (x - px, y - py);
-                    let along = rx * dx + ry * dy;
-                    if along <= 0.0 || along >= len2 || (rx * dy - ry * dx).abs() > band {
-                        continue;
-                    }
-                    let k = self.items[s] as usize;
-                    if k != i && k != j && blocks(p, positions[k], q, v) {
+        let (b_lo, b_hi) = (pb.min(pb + db) - tol_b, pb.max(pb + db) + tol_b);
+        let (r0, r1) = (g.band(b_lo), g.band(b_hi));
+        // Rounding in the inverse below is covered by this much room on the major axis.
+        let scale = pa
+            .abs()
+            .max((pa + da).abs())
+            .max(pb.abs())
+            .max((pb + db).abs())
+            + len;
+        let steep = db.abs() * 1e12 >= da.abs();
+        let inv_slope = da / db;
+        // Cheap filter: within twice the tube's radius of the line, strictly between p
+        // and q (widened by the rounding of stored coordinates).
+        let near = |&[x, y]: &[f32; 2]| {
+            let (rx, ry) = (f64::from(x) - rpx, f64::from(y) - rpy);
+            let along = rx * dx + ry * dy;
+            !self.single
+                | ((along > -slack) & (along < along_max) & ((rx * dy - ry * dx).abs() <= band))
+        };
+        // Bands are taken a batch at a time: first where the line crosses each, then
+        // its slice's bounds, then its robots, each step prefetching what the next one
+        // reads, so that the cache misses of a batch overlap instead of adding up.
+        const BATCH: usize = 32;
+        let mut cells = [(0usize, 0usize); BATCH];
+        let mut r = r0;
+        while r <= r1 {
+            let mut m = 0;
+            while r <= r1 && m < BATCH {
+                let (mut lo, mut hi) = (a_lo, a_hi);
+                if r0 < r1 && steep {
+                    // Where the line crosses band r, widened by `tol_b` (robots near a
+                    // band edge may sit in either band after rounding: `tol` includes
+                    // room for it).
+                    let edge0 = g.origin[1] + r as f64 * g.height - tol_b;
+                    let edge1 = g.origin[1] + (r + 1) as f64 * g.height + tol_b;
+                    let (t0, t1) = ((edge0 - pb) * inv_slope, (edge1 - pb) * inv_slope);
+                    let room = 64.0 * f64::EPSILON * (scale + t0.abs() + t1.abs());
+                    lo = lo.max(pa + t0.min(t1) - room);
+                    hi = hi.min(pa + t0.max(t1) + room);
+                }
+                if lo <= hi {
+                    let row = r * g.cells;
+                    cells[m] = (row + g.cell(lo), row + g.cell(hi) + 1);
+                    prefetch(&g.start[cells[m].0]);
+                    prefetch(&g.start[cells[m].1]);
+                    m += 1;
+                }
+                r += 1;
+            }
+            let mut slices = [(0usize, 0usize); BATCH];
+            for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
+                *slice = (g.start[c0] as usize, g.start[c1] as usize);
+                for line in (slice.0..slice.1).step_by(8) {
+                    prefetch(&g.coords[line]);
+                }
+            }
+            for &(s0, s1) in &slices[..m] {
+                // Candidates are rare: one branch-free pass over the slice first.
+                if !g.coords[s0..s1].iter().fold(false, |any, c| any | near(c)) {
+                    continue;
+                }
+                for s in s0..s1 {
+                    let k = g.items[s] as usize;
+                    if near(&g.coords[s]) && k != i && k != j && blocks(p, positions[k], q, v) {
                         return true;
                     }
                 }
             }
         }
         false
+    }
+}
+
+/// Asks for the cache line holding `x` (a hint: no effect on results).
+#[inline(always)]
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: prefetching is a hint that never faults, here on a valid reference. The
+    // only unsafe block of the workspace (`unsafe_code = "deny"` elsewhere).
+    #[allow(
+        unsafe_code,
+        unused_unsafe,
+        reason = "a prefetch hint; the intrinsic is safe on newer compilers"
+    )]
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>((x as *const T).cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+    use monoculus_core::rng::Stream;
+
+    fn brute(points: &[DVec2], i: usize, j: usize, v: &VisionParams) -> bool {
+        (0..points.len()).any(|k| k != i && k != j && blocks(points[i], points[k], points[j], v))
+    }
+
+    /// Blockers at the edge of the blocking cone, on lines of every slope through a
+    /// corner of the cells they are walked in (so a blocker sits across a band edge and
+    /// a cell edge from where the line enters the band): the walk must find them all.
+    #[test]
+    fn blockers_at_the_cone_edge_next_to_cell_corners() {
+        let v = VisionParams::default();
+        let mut rng = Stream::new(7, 0, 0, 0);
+        // Robots 0..4 pin the bounds, so moving robots 4, 5 and 6 keeps the grid's cells.
+        let mut pts = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(20.0, 0.0),
+            DVec2::new(0.0, 20.0),
+            DVec2::new(20.0, 20.0),
+        ];
+        pts.extend((0..400).map(|_| DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0)));
+        let (i, j, k) = (4, 5, 6);
+        let (mut checked, mut blocked) = (0, 0);
+        while checked < 3000 {
+            let grid = SegmentGrid::new(&pts);
+            let g = if rng.coin() {
+                &grid.rows
+            } else {
+                &grid.columns
+            };
+            let (a, b) = (g.run, 1 - g.run);
+            let mut corner = DVec2::ZERO;
+            corner[a] = g.origin[0] + (1 + rng.below(g.cells - 2)) as f64 / g.inv_width;
+            corner[b] = g.origin[1] + (1 + rng.below(g.bands - 2)) as f64 * g.height;
+            let p = DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0);
+            // Through the corner, or just beside it (by about the cone's width).
+            corner[a] += rng.uniform_in(-2.0, 2.0) * v.eps_ang * (corner - p).length();
+            let q = p + (corner - p) * rng.uniform_in(1.2, 2.5);
+            let d = q - p;
+            let inside = (0..2).all(|x| (0.5..19.5).contains(&q[x]));
+            // Walked in `g` only if its run axis is the major axis.
+            if !inside || (d[a].abs() < d[b].abs()) || (g.run == 1 && d[a].abs() == d[b].abs()) {
+                continue;
+            }
+            let normal = DVec2::new(-d.y, d.x).normalize();
+            pts[i] = p;
+            pts[j] = q;
+            for side in [-1.0, 1.0] {
+                for frac in [0.5, 0.999, 1.001] {
+                    pts[k] = corner + normal * (side * frac * v.eps_ang * (corner - p).length());
+                    let expect = brute(&pts, i, j, &v);
+                    assert_eq!(
+                        SegmentGrid::new(&pts).blocked(&pts, i, j, &v),
+                        expect,
+                        "{p} -> {q}, blocker {} ({frac})",
+                        pts[k]
+                    );
+                    checked += 1;
+                    blocked += usize::from(expect);
+                }
+            }
+        }
+        assert!(
+            blocked > 1000,
+            "only {blocked} of {checked} placements block"
+        );
     }
 }
