@@ -124,6 +124,9 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
     }
 
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
+        if P::DIM == 2 {
+            return Box::new(self.grid().nearest_first(&self.positions, i));
+        }
         let p = self.positions[i].to_array();
         Box::new(
             self.tree()
@@ -147,6 +150,9 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
 
     /// R-tree nodes entirely within `radius` are skipped: O(robots beyond + boundary).
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        if P::DIM == 2 {
+            return self.grid().for_each_beyond(&self.positions, i, radius, f);
+        }
         let p = self.positions[i];
         let selection = Beyond::<P> {
             centre: p.to_array(),

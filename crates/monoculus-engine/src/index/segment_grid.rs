@@ -117,6 +117,22 @@ impl Bands {
         }
     }
 
+    /// The robots of band `r` in cells `c0..=c1`: indices into `items` and `coords`.
+    #[inline]
+    fn cells_range(&self, r: usize, c0: usize, c1: usize) -> std::ops::Range<usize> {
+        let row = r * self.cells;
+        self.start[row + c0] as usize..self.start[row + c1 + 1] as usize
+    }
+
+    /// The lower edge of cell `c` on the run axis and of band `r` across it.
+    #[inline]
+    fn corner(&self, c: usize, r: usize) -> (f64, f64) {
+        (
+            self.origin[0] + c as f64 / self.inv_width,
+            self.origin[1] + r as f64 * self.height,
+        )
+    }
+
     /// The robots of band `r` in the cells meeting `[lo, hi]` on the run axis: indices
     /// into `items` and `coords`.
     #[inline]
@@ -190,6 +206,75 @@ impl SegmentGrid {
         for r in g.band(y - radius)..=g.band(y + radius) {
             for s in g.slice(r, x - radius, x + radius) {
                 f(g.items[s] as usize);
+            }
+        }
+    }
+
+    /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
+    /// around its cell, each robot given out once no unvisited cell can hold a nearer
+    /// one. O(k log k) for the first k.
+    pub fn nearest_first<'a, P: Point>(
+        &'a self,
+        positions: &'a [P],
+        i: usize,
+    ) -> impl Iterator<Item = usize> + 'a {
+        let p = positions[i];
+        let g = &self.rows;
+        Nearest {
+            grid: g,
+            positions,
+            i,
+            p,
+            cell: (g.cell(p.axis(0)), g.band(p.axis(1))),
+            ring: None,
+            reach: 0.0,
+            exhausted: false,
+            heap: std::collections::BinaryHeap::new(),
+        }
+    }
+
+    /// Calls `f` with every robot farther than `radius` from robot `i`: per band, the
+    /// cells wholly within the disc are skipped. O(bands + robots beyond + boundary).
+    pub fn for_each_beyond<P: Point>(
+        &self,
+        positions: &[P],
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    ) {
+        let p = positions[i];
+        let (x, y) = (p.axis(0), p.axis(1));
+        let g = &self.rows;
+        // Room for the rounding of cell edges and of robots' cells.
+        let room = 1e-9 * (x.abs() + y.abs() + self.spacing);
+        let mut emit = |range: std::ops::Range<usize>| {
+            for s in range {
+                let k = g.items[s] as usize;
+                if (positions[k] - p).length() > radius {
+                    f(k);
+                }
+            }
+        };
+        for r in 0..g.bands {
+            let (_, y0) = g.corner(0, r);
+            let dy = (y - y0).abs().max((y0 + g.height - y).abs()) + room;
+            // The band's robots within `inner` of x on the run axis are within the disc.
+            let inner = if dy < radius {
+                (radius * radius - dy * dy).sqrt() * (1.0 - 1e-9) - room
+            } else {
+                -1.0
+            };
+            let last = g.cells - 1;
+            if inner <= 0.0 {
+                emit(g.cells_range(r, 0, last));
+                continue;
+            }
+            let (ca, cb) = (g.cell(x - inner), g.cell(x + inner));
+            if cb <= ca + 1 {
+                emit(g.cells_range(r, 0, last));
+            } else {
+                emit(g.cells_range(r, 0, ca));
+                emit(g.cells_range(r, cb, last));
             }
         }
     }
@@ -305,6 +390,91 @@ impl SegmentGrid {
             }
         }
         false
+    }
+}
+
+/// The iterator of [`SegmentGrid::nearest_first`].
+struct Nearest<'a, P: Point> {
+    grid: &'a Bands,
+    positions: &'a [P],
+    i: usize,
+    p: P,
+    /// The observer's cell and band.
+    cell: (usize, usize),
+    /// The last ring of cells visited (`None` before the first).
+    ring: Option<usize>,
+    /// Every robot nearer than this has been visited.
+    reach: f64,
+    /// Whether every cell has been visited.
+    exhausted: bool,
+    /// Visited robots not yet given out: (distance bits, robot), nearest on top.
+    heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>>,
+}
+
+impl<P: Point> Nearest<'_, P> {
+    /// Visits the next ring of cells; `false` if the grid is exhausted.
+    fn expand(&mut self) -> bool {
+        let g = self.grid;
+        let (c, r) = self.cell;
+        if self.exhausted {
+            return false;
+        }
+        let k = self.ring.map_or(0, |k| k + 1);
+        let (c0, c1) = (c.saturating_sub(k), (c + k).min(g.cells - 1));
+        let (r0, r1) = (r.saturating_sub(k), (r + k).min(g.bands - 1));
+        self.ring = Some(k);
+        let push = |range: std::ops::Range<usize>, heap: &mut std::collections::BinaryHeap<_>| {
+            for s in range {
+                let j = g.items[s] as usize;
+                if j != self.i {
+                    let d = (self.positions[j] - self.p).length();
+                    heap.push(std::cmp::Reverse((d.to_bits(), j)));
+                }
+            }
+        };
+        for band in r0..=r1 {
+            if k == 0 || band == r.wrapping_sub(k) || band == r + k {
+                push(g.cells_range(band, c0, c1), &mut self.heap);
+            } else {
+                if c >= k {
+                    push(g.cells_range(band, c - k, c - k), &mut self.heap);
+                }
+                if c + k < g.cells {
+                    push(g.cells_range(band, c + k, c + k), &mut self.heap);
+                }
+            }
+        }
+        // Distance from the observer to the nearest unvisited cell (infinite past the
+        // grid's edge), less room for rounding.
+        let (x, y) = (self.p.axis(0), self.p.axis(1));
+        let (lo_x, lo_y) = g.corner(c.saturating_sub(k), r.saturating_sub(k));
+        let (hi_x, hi_y) = g.corner(c + k + 1, r + k + 1);
+        let gap = |inside: bool, d: f64| if inside { d } else { f64::INFINITY };
+        let reach = gap(c > k, x - lo_x)
+            .min(gap(c + k + 1 < g.cells, hi_x - x))
+            .min(gap(r > k, y - lo_y))
+            .min(gap(r + k + 1 < g.bands, hi_y - y));
+        self.exhausted = reach == f64::INFINITY;
+        self.reach = reach * (1.0 - 1e-9) - 1e-9 * (x.abs() + y.abs());
+        true
+    }
+}
+
+impl<P: Point> Iterator for Nearest<'_, P> {
+    type Item = usize;
+
+    fn next(&mut self) -> Option<usize> {
+        loop {
+            if let Some(&std::cmp::Reverse((d, j))) = self.heap.peek()
+                && f64::from_bits(d) < self.reach
+            {
+                self.heap.pop();
+                return Some(j);
+            }
+            if !self.expand() {
+                return self.heap.pop().map(|std::cmp::Reverse((_, j))| j);
+            }
+        }
     }
 }
 

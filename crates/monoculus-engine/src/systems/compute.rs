@@ -68,9 +68,18 @@ pub fn compute_intents<P: IndexPoint>(
     mut robots: Query<(&Robot, &Activated, &mut Intent<P>, Option<&mut Memory>)>,
 ) {
     let sight = snapshot.sight.as_ref().expect("Look runs before Compute");
-    let mut items: Vec<RobotItem<'_, P>> = robots.iter_mut().collect();
-    match sight {
-        SnapshotSight::Index(s) => compute_all(&params, clock.round, s, &mut items),
-        SnapshotSight::Exact(s) => compute_all(&params, clock.round, s, &mut items),
+    // Query items are gathered a batch at a time for rayon: a list of all of them would
+    // cost about 100 bytes per robot at the memory peak.
+    const BATCH: usize = 1 << 16;
+    let mut robots = robots.iter_mut();
+    loop {
+        let mut items: Vec<RobotItem<'_, P>> = robots.by_ref().take(BATCH).collect();
+        if items.is_empty() {
+            break;
+        }
+        match sight {
+            SnapshotSight::Index(s) => compute_all(&params, clock.round, s, &mut items),
+            SnapshotSight::Exact(s) => compute_all(&params, clock.round, s, &mut items),
+        }
     }
 }
