@@ -256,7 +256,7 @@ fn trace_writes_one_row_per_round() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
         lines[0],
-        "round,activated,moving,hull_area,diameter,extent_x,extent_y"
+        "round,activated,moving,hull_area,diameter,extent_x,extent_y,wall_ms"
     );
     assert_eq!(
         lines.len(),

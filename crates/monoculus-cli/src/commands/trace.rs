@@ -15,7 +15,7 @@ pub struct TraceArgs {
     /// The seed.
     #[arg(long)]
     seed: u64,
-    /// Output CSV, one row per round.
+    /// Output CSV, one row per round (with its wall time in ms).
     #[arg(long)]
     out: PathBuf,
     /// Also write every robot's position per round to `<out stem>.positions.csv`
@@ -82,7 +82,7 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     let extents: Vec<String> = axes.iter().map(|a| format!("extent_{a}")).collect();
     writeln!(
         out,
-        "round,activated,moving,{measure},diameter,{}",
+        "round,activated,moving,{measure},diameter,{},wall_ms",
         extents.join(",")
     )?;
     let mut pos_out = if args.positions {
@@ -99,18 +99,22 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
         cell.initial_positions(args.seed),
     )
     .map_err(|e| Failure::Other(e.into()))?;
+    // Wall time of each round (of the setup for round 0), without the writing.
+    let mut last = std::time::Instant::now();
     let outcome = sim.run_with(|r| {
+        let wall_ms = last.elapsed().as_secs_f64() * 1e3;
         let mut write = || -> std::io::Result<()> {
             let ext: Vec<String> = r.extents.iter().map(|&e| num(e)).collect();
             writeln!(
                 out,
-                "{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{:.3}",
                 r.round,
                 r.activated,
                 r.moving,
                 num(r.hull),
                 num(r.diameter),
-                ext.join(",")
+                ext.join(","),
+                wall_ms
             )?;
             if let Some(f) = pos_out.as_mut() {
                 for (i, p) in r.positions.iter().enumerate() {
@@ -125,6 +129,7 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
         {
             io_error = Some(e);
         }
+        last = std::time::Instant::now();
     });
     if let Some(e) = io_error {
         return Err(e.into());

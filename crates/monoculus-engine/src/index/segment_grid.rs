@@ -175,10 +175,14 @@ impl SegmentGrid {
         }
         let ext = [hi[0] - lo[0], hi[1] - lo[1]];
         let longest = ext[0].max(ext[1]);
-        // The mean spacing, but never so small that a thin swarm gets more than about
-        // 4n cells.
-        let spacing = (ext[0] * ext[1] / n)
+        // The mean spacing in the swarm's core (its interquartile box holds about a
+        // quarter of the robots): a converging swarm is dense in the middle with a few
+        // robots far out, and lines of sight cross the core. But never more than about
+        // 4n cells (thin or straggling swarms).
+        let core = quartile_box_area(points) / (0.25 * n);
+        let spacing = core
             .sqrt()
+            .max((ext[0] * ext[1] / (4.0 * n * BAND * CELL)).sqrt())
             .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);
@@ -391,6 +395,24 @@ impl SegmentGrid {
         }
         false
     }
+}
+
+/// The area of the box between the first and third quartiles of each coordinate,
+/// estimated from at most 4096 robots (evenly strided: a function of the positions).
+fn quartile_box_area<P: Point>(points: &[P]) -> f64 {
+    let stride = points.len().div_ceil(4096).max(1);
+    let mut area = 1.0;
+    for a in 0..2 {
+        let mut v: Vec<f64> = points.iter().step_by(stride).map(|p| p.axis(a)).collect();
+        if v.len() < 4 {
+            return 0.0;
+        }
+        let (q1, q3) = (v.len() / 4, 3 * v.len() / 4);
+        let x3 = *v.select_nth_unstable_by(q3, f64::total_cmp).1;
+        let x1 = *v[..q3].select_nth_unstable_by(q1, f64::total_cmp).1;
+        area *= x3 - x1;
+    }
+    area
 }
 
 /// The iterator of [`SegmentGrid::nearest_first`].
