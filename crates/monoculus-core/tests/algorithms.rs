@@ -269,3 +269,59 @@ fn median_and_bisector_move_only_boundary_robots() {
             .all(Option::is_none)
     );
 }
+
+/// The engine skips activations `certainly_stays` vouches for: on random, lattice and
+/// collinear configurations, every such robot's activation stays and leaves its memory
+/// as it was, and the test does not vouch for robots that might move.
+#[test]
+fn certainly_stays_only_for_robots_that_stay() {
+    use monoculus_core::algorithms::certainly_stays;
+    use monoculus_core::init::{InitShape, generate};
+    let shapes = [
+        InitShape::Square { side: 6.0 },
+        InitShape::Lattice { side: 5.0 },
+        InitShape::Line { side: 8.0 },
+    ];
+    let mut vouched = 0;
+    for (k, shape) in shapes.iter().enumerate() {
+        let pts: Vec<DVec2> = generate(shape, 40, k as u64);
+        let s = ExactSight::new(pts.clone(), VisionParams::default());
+        for kind in AlgorithmKind::ALL {
+            for i in 0..pts.len() {
+                if !certainly_stays(&params(kind), &s, i) {
+                    continue;
+                }
+                vouched += 1;
+                assert!(
+                    matches!(
+                        kind,
+                        AlgorithmKind::ConvergeQuadrant
+                            | AlgorithmKind::ConvergeQuadrantTermination
+                    ),
+                    "only OLA robots are vouched for"
+                );
+                for t in 0..8 {
+                    let mut stream = Stream::new(3, 1, i as u64, t);
+                    let frame = AxisFrame::random(2, &mut stream);
+                    let mut memory = RobotMemory::new(frame);
+                    let before = memory;
+                    let m = kind.has_memory().then_some(&mut memory);
+                    assert_eq!(activate(&params(kind), &s, i, m, &mut stream), None);
+                    assert_eq!(memory, before, "an inner robot sets no bit");
+                }
+            }
+        }
+        // Robots on the bounding box are never vouched for.
+        let lo = pts.iter().fold(DVec2::INFINITY, |a, &p| a.min(p));
+        for (i, p) in pts.iter().enumerate() {
+            if p.x == lo.x || p.y == lo.y {
+                assert!(!certainly_stays(
+                    &params(AlgorithmKind::ConvergeQuadrant),
+                    &s,
+                    i
+                ));
+            }
+        }
+    }
+    assert!(vouched > 50, "only {vouched} robots vouched for");
+}

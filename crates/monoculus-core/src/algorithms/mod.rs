@@ -136,6 +136,27 @@ impl AlgorithmParams {
     }
 }
 
+/// Whether an activation of `robot` is sure to decide Stay and leave its memory as it
+/// is, from the bounding box alone: an OLA robot (perceiving without errors) with robots
+/// beyond it on both sides of every axis is an inner robot: E is empty, no termination
+/// bit is set, and it sees at least two points (SPEC 4.2, 4.3). Its random stream is
+/// its own, so skipping the activation changes nothing else. Most robots of a
+/// ConvergeQuadrant run are inner robots.
+pub fn certainly_stays<P: Point, S: Sight<P> + ?Sized>(
+    params: &AlgorithmParams,
+    sight: &S,
+    robot: usize,
+) -> bool {
+    if params.kind.model() != Model::Ola || params.errors.any() {
+        return false;
+    }
+    let eps = sight.vision().eps_axis;
+    let p = sight.positions()[robot];
+    let (lo, hi) = sight.bounds();
+    // The tests of `OlaObservation::side_occupied`, for both sides of every axis.
+    (0..P::DIM).all(|a| hi.axis(a) > p.axis(a) + eps && lo.axis(a) < p.axis(a) - eps)
+}
+
 /// One activation of robot `robot`: returns its global displacement, or `None` to stay.
 ///
 /// `memory` is the robot's persistent state (termination algorithm only; `None` for

@@ -20,6 +20,12 @@ pub trait HullGeometry: Point {
     fn hull_vertices(_points: &[Self]) -> Vec<Self> {
         Vec::new()
     }
+    /// The same vertices, sorting the points starting from `order` (robot indices in
+    /// the order the last call sorted them, or empty), which is updated. Sorting is
+    /// adaptive: when few robots moved since, it costs about O(n), not O(n log n).
+    fn hull_vertices_from(points: &[Self], _order: &mut Vec<u32>) -> Vec<Self> {
+        Self::hull_vertices(points)
+    }
     /// Whether `p` lies strictly inside the hull with these vertices, by a margin that
     /// rounding cannot cross; `false` when unsure. Adding such points to a set leaves
     /// its hull exactly as it is.
@@ -32,7 +38,32 @@ pub trait HullGeometry: Point {
 /// points on its edges (Andrew's monotone chain, O(n log n)).
 pub fn convex_hull_2d(points: &[DVec2]) -> Vec<DVec2> {
     let mut pts: Vec<DVec2> = points.to_vec();
-    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    pts.sort_by(by_x_then_y);
+    monotone_chain(pts)
+}
+
+/// The order of the monotone chain. Total on the values: equal keys are equal points, so
+/// the sorted sequence does not depend on the order the points come in.
+fn by_x_then_y(a: &DVec2, b: &DVec2) -> std::cmp::Ordering {
+    a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
+}
+
+/// [`convex_hull_2d`], sorting from the order of the previous call (see
+/// [`HullGeometry::hull_vertices_from`]): the same vertices.
+pub fn convex_hull_2d_from(points: &[DVec2], order: &mut Vec<u32>) -> Vec<DVec2> {
+    if order.len() != points.len() {
+        *order = (0..points.len() as u32).collect();
+    }
+    let mut keyed: Vec<(DVec2, u32)> = order.iter().map(|&i| (points[i as usize], i)).collect();
+    keyed.sort_by(|a, b| by_x_then_y(&a.0, &b.0));
+    for (slot, &(_, i)) in order.iter_mut().zip(&keyed) {
+        *slot = i;
+    }
+    monotone_chain(keyed.into_iter().map(|(p, _)| p).collect())
+}
+
+/// Andrew's monotone chain over points sorted by [`by_x_then_y`].
+fn monotone_chain(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     pts.dedup();
     if pts.len() < 3 {
         return pts;
@@ -101,6 +132,10 @@ impl HullGeometry for DVec2 {
         convex_hull_2d(points)
     }
 
+    fn hull_vertices_from(points: &[Self], order: &mut Vec<u32>) -> Vec<Self> {
+        convex_hull_2d_from(points, order)
+    }
+
     /// O(log h): find the wedge from vertex 0 containing `p`, then test the edge.
     fn strictly_inside(hull: &[Self], p: Self) -> bool {
         let h = hull.len();
@@ -133,6 +168,40 @@ impl HullGeometry for DVec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Sorting from a stale order (after some points moved), from a shuffled one, or
+    /// with duplicates and signed zeros gives the very same vertices as sorting afresh.
+    #[test]
+    fn hull_from_a_previous_order_is_the_hull() {
+        let mut rng = crate::rng::Stream::new(5, 0, 0, 0);
+        let mut pts: Vec<DVec2> = (0..300)
+            .map(|_| DVec2::new(rng.uniform_in(-3.0, 3.0), rng.uniform_in(-3.0, 3.0)))
+            .collect();
+        pts.extend([DVec2::new(0.0, -0.0), DVec2::new(-0.0, 0.0), pts[7], pts[7]]);
+        let mut order = Vec::new();
+        for round in 0..50 {
+            assert_eq!(
+                convex_hull_2d_from(&pts, &mut order),
+                convex_hull_2d(&pts),
+                "round {round}"
+            );
+            let mut sorted = order.clone();
+            sorted.sort_unstable();
+            assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
+            // A few robots move, some to the hull and beyond it.
+            for _ in 0..(1 + round % 7) {
+                let i = rng.below(pts.len());
+                pts[i] += DVec2::new(rng.uniform_in(-2.0, 2.0), rng.uniform_in(-2.0, 2.0));
+            }
+            if round % 10 == 9 {
+                order = rng
+                    .permutation(pts.len())
+                    .into_iter()
+                    .map(|i| i as u32)
+                    .collect();
+            }
+        }
+    }
 
     #[test]
     fn hull_of_square_with_interior_and_edge_points() {

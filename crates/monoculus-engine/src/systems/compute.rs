@@ -1,5 +1,5 @@
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::{RobotMemory, activate};
+use monoculus_core::algorithms::{RobotMemory, activate, certainly_stays};
 use monoculus_core::rng::{Purpose, Stream};
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
@@ -16,6 +16,9 @@ pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized>(
     round: u64,
     memory: Option<&mut RobotMemory>,
 ) -> Option<P> {
+    if certainly_stays(&params.algorithm, sight, robot) {
+        return None;
+    }
     let mut stream = Stream::keyed(params.seed, Purpose::Decide, robot as u64, round);
     activate(&params.algorithm, sight, robot, memory, &mut stream)
 }
@@ -39,24 +42,57 @@ type RobotItem<'a, P> = (
     Option<Mut<'a, Memory>>,
 );
 
+fn decide_item<P: IndexPoint, S: Sight<P>>(
+    params: &Params,
+    round: u64,
+    sight: &S,
+    (robot, _, intent, memory): &mut RobotItem<'_, P>,
+) {
+    let i = robot.index as usize;
+    intent.0 = decide_one(params, sight, i, round, memory.as_mut().map(|m| &mut m.0))
+        .map(|d| realise(params, i, round, d));
+}
+
+/// Decides for every activated robot: those [`certainly_stays`] vouches for at once,
+/// the others gathered a batch at a time (a list of all query items would cost about
+/// 100 bytes per robot at the memory peak) and decided in parallel, or on this thread
+/// when there are only a few (ConvergeQuadrant: the robots on the bounding box).
 fn compute_all<P: IndexPoint, S: Sight<P>>(
     params: &Params,
     round: u64,
     sight: &S,
-    items: &mut [RobotItem<'_, P>],
+    robots: &mut Query<(&Robot, &Activated, &mut Intent<P>, Option<&mut Memory>)>,
 ) {
-    items
-        .par_iter_mut()
-        .with_min_len(32)
-        .for_each(|(robot, active, intent, memory)| {
-            intent.0 = if active.0 {
-                let i = robot.index as usize;
-                decide_one(params, sight, i, round, memory.as_mut().map(|m| &mut m.0))
-                    .map(|d| realise(params, i, round, d))
-            } else {
-                None
-            };
-        });
+    const BATCH: usize = 1 << 16;
+    const FEW: usize = 64;
+    let mut robots = robots.iter_mut();
+    let mut items: Vec<RobotItem<'_, P>> = Vec::new();
+    loop {
+        items.clear();
+        for (robot, active, mut intent, memory) in robots.by_ref() {
+            if active.0 && !certainly_stays(&params.algorithm, sight, robot.index as usize) {
+                items.push((robot, active, intent, memory));
+                if items.len() == BATCH {
+                    break;
+                }
+            } else if intent.0.is_some() {
+                intent.0 = None;
+            }
+        }
+        if items.is_empty() {
+            break;
+        }
+        if items.len() < FEW {
+            for item in &mut items {
+                decide_item(params, round, sight, item);
+            }
+        } else {
+            items
+                .par_iter_mut()
+                .with_min_len(32)
+                .for_each(|item| decide_item(params, round, sight, item));
+        }
+    }
 }
 
 /// Compute: every activated robot decides against the Look snapshot, in parallel
@@ -67,19 +103,8 @@ pub fn compute_intents<P: IndexPoint>(
     snapshot: Res<Snapshot<P>>,
     mut robots: Query<(&Robot, &Activated, &mut Intent<P>, Option<&mut Memory>)>,
 ) {
-    let sight = snapshot.sight.as_ref().expect("Look runs before Compute");
-    // Query items are gathered a batch at a time for rayon: a list of all of them would
-    // cost about 100 bytes per robot at the memory peak.
-    const BATCH: usize = 1 << 16;
-    let mut robots = robots.iter_mut();
-    loop {
-        let mut items: Vec<RobotItem<'_, P>> = robots.by_ref().take(BATCH).collect();
-        if items.is_empty() {
-            break;
-        }
-        match sight {
-            SnapshotSight::Index(s) => compute_all(&params, clock.round, s, &mut items),
-            SnapshotSight::Exact(s) => compute_all(&params, clock.round, s, &mut items),
-        }
+    match snapshot.sight.as_ref().expect("Look runs before Compute") {
+        SnapshotSight::Index(s) => compute_all(&params, clock.round, s, &mut robots),
+        SnapshotSight::Exact(s) => compute_all(&params, clock.round, s, &mut robots),
     }
 }
