@@ -11,7 +11,9 @@ pub mod vision;
 
 /// The most used items.
 pub mod prelude {
-    pub use crate::algorithms::{AlgorithmKind, AlgorithmParams, Decision, RobotMemory, activate};
+    pub use crate::algorithms::{
+        AlgorithmKind, AlgorithmParams, Decision, RobotMemory, TargetPolicy, activate,
+    };
     pub use crate::geometry::{AxisFrame, HullGeometry, Point};
     pub use crate::rng::{Purpose, Stream};
     pub use crate::vision::{ExactSight, Sight, VisionParams};

@@ -21,3 +21,19 @@ fn indexed_and_exact_backends_give_identical_runs() {
         }
     }
 }
+
+/// The same with `target = "random_rejection"`, whose redraws list far robots through
+/// the index's range query on one side and brute force on the other.
+#[test]
+fn backends_agree_with_rejection_redraws() {
+    for (name, pts) in common::zoo(2) {
+        let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 5);
+        cfg.algorithm.target = TargetPolicy::RandomRejection;
+        cfg.stop.max_rounds = 60;
+        let mut a = Simulation::new(cfg, pts.clone()).unwrap();
+        cfg.backend = SightBackend::Exact;
+        let mut b = Simulation::new(cfg, pts.clone()).unwrap();
+        assert_eq!(a.run(), b.run(), "{name}");
+        assert_eq!(a.positions(), b.positions(), "{name}");
+    }
+}

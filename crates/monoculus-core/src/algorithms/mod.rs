@@ -111,6 +111,24 @@ impl AlgorithmKind {
     }
 }
 
+/// How "choose any" draws (config `algorithm.target`). Both are uniform over the
+/// eligible visible points; they differ only in how they use the random stream, so the
+/// same seed gives different (equally distributed) runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TargetPolicy {
+    /// Draw robots uniformly until one is eligible and visible; after 32 misses, list
+    /// every eligible visible point and draw one of them (the reference procedure).
+    #[default]
+    Random,
+    /// The same 32 draws; then draw among the robots that may be eligible (for
+    /// ConvergeLocality: the robots farther than c, found by a range query) until one
+    /// is eligible and visible, and list them all only after 32 more misses. The late
+    /// rounds of a large ConvergeLocality run, where most robots see few far robots,
+    /// then cost one line of sight per robot instead of one per far robot.
+    RandomRejection,
+}
+
 /// Parameters every activation needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AlgorithmParams {
@@ -122,6 +140,8 @@ pub struct AlgorithmParams {
     pub locality: f64,
     /// Observation errors (off: [`ObservationErrors::NONE`]).
     pub errors: ObservationErrors,
+    /// How "choose any" draws.
+    pub target: TargetPolicy,
 }
 
 impl AlgorithmParams {
@@ -132,6 +152,7 @@ impl AlgorithmParams {
             step,
             locality,
             errors: ObservationErrors::NONE,
+            target: TargetPolicy::Random,
         }
     }
 }
@@ -174,8 +195,10 @@ pub fn activate<P: Point, S: Sight<P> + ?Sized>(
         Model::Ld | Model::Positions => {
             let frame = P::random_frame(stream);
             let perception = Perception::new(params.errors, stream);
-            let ld =
-                || LdObservation::with_perception(sight, robot, frame, params.locality, perception);
+            let ld = || {
+                LdObservation::with_perception(sight, robot, frame, params.locality, perception)
+                    .with_target(params.target)
+            };
             let decision = match params.kind {
                 AlgorithmKind::ConvergeLocality => converge_locality::decide(&ld(), stream),
                 AlgorithmKind::Median => median::decide(&ld()),

@@ -1,6 +1,7 @@
 //! [`LdObservation`]: the Locality Detection model.
 
-use super::{count_visible_up_to, direction, sample_visible_point, sole_visible};
+use super::{Candidates, count_visible_up_to, direction, sample_visible_point, sole_visible};
+use crate::algorithms::TargetPolicy;
 use crate::errors::Perception;
 use crate::geometry::Point;
 use crate::rng::Stream;
@@ -23,6 +24,7 @@ pub struct LdObservation<'a, P: Point, S: Sight<P> + ?Sized> {
     frame: P::Frame,
     locality: f64,
     perception: Perception,
+    target: TargetPolicy,
 }
 
 impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
@@ -46,7 +48,14 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
             frame,
             locality,
             perception,
+            target: TargetPolicy::Random,
         }
+    }
+
+    /// The same observation, drawing random targets with `target`.
+    pub fn with_target(mut self, target: TargetPolicy) -> Self {
+        self.target = target;
+        self
     }
 
     fn local(&self, j: usize) -> P {
@@ -93,7 +102,11 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
             }
         };
         let beyond = |f: &mut dyn FnMut(usize)| self.sight.for_each_beyond(self.me, threshold, f);
-        sample_visible_point(self.sight, self.me, &far, &nobody, Some(&beyond), stream)
+        let candidates = Candidates {
+            list: &beyond,
+            redraw: self.target == TargetPolicy::RandomRejection,
+        };
+        sample_visible_point(self.sight, self.me, &far, &nobody, Some(candidates), stream)
             .map(|j| self.local(j))
     }
 

@@ -28,6 +28,17 @@ use crate::vision::Sight;
 /// Lists robots by calling the given function with each.
 pub(crate) type Enumerate<'a> = &'a dyn Fn(&mut dyn FnMut(usize));
 
+/// A superset of the eligible robots, for when the uniform draws all missed.
+pub(crate) struct Candidates<'a> {
+    /// Lists them, in any order.
+    pub list: Enumerate<'a>,
+    /// Whether to draw among them ([`TargetPolicy::RandomRejection`]) before listing
+    /// every eligible visible point.
+    ///
+    /// [`TargetPolicy::RandomRejection`]: crate::algorithms::TargetPolicy::RandomRejection
+    pub redraw: bool,
+}
+
 /// How many uniform draws the target sampler makes before it lists every eligible point.
 pub const REJECTION_DRAWS: usize = 32;
 
@@ -39,12 +50,16 @@ pub const REJECTION_DRAWS: usize = 32;
 ///
 /// `candidates`, if given, lists a superset of the eligible robots (in any order) for
 /// the full listing, which is then sorted, so the choice is the same as over all robots.
+/// With `redraw`, up to [`REJECTION_DRAWS`] more draws are made among them (the `k`-th
+/// smallest robot index for a uniform `k`: the same whatever order they are listed in)
+/// before the full listing; the result is uniform over the eligible visible points
+/// either way.
 pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     sight: &S,
     me: usize,
     eligible: &dyn Fn(usize) -> bool,
     nobody: &dyn Fn() -> bool,
-    candidates: Option<Enumerate<'_>>,
+    candidates: Option<Candidates<'_>>,
     stream: &mut Stream,
 ) -> Option<usize> {
     let n = sight.len();
@@ -61,9 +76,18 @@ pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
         return None;
     }
     let pool: Vec<usize> = match candidates {
-        Some(list) => {
+        Some(Candidates { list, redraw }) => {
             let mut v = Vec::new();
             list(&mut |j| v.push(j));
+            if redraw && !v.is_empty() {
+                for _ in 0..REJECTION_DRAWS {
+                    let k = stream.below(v.len());
+                    let j = *v.select_nth_unstable(k).1;
+                    if j != me && eligible(j) && sight.is_visible_point(me, j) {
+                        return Some(j);
+                    }
+                }
+            }
             v.sort_unstable();
             v
         }

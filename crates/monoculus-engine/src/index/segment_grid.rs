@@ -178,11 +178,13 @@ impl SegmentGrid {
         // The mean spacing in the swarm's core (its interquartile box holds about a
         // quarter of the robots): a converging swarm is dense in the middle with a few
         // robots far out, and lines of sight cross the core. But never more than about
-        // 4n cells (thin or straggling swarms).
+        // 16n cells per layout (straggling swarms; measured on the late rounds of
+        // configs/bench/locality_1e5_rejection.toml: 4n 81 s, 16n 74 s, 64n 69 s), nor
+        // 4n for thin ones.
         let core = quartile_box_area(points) / (0.25 * n);
         let spacing = core
             .sqrt()
-            .max((ext[0] * ext[1] / (4.0 * n * BAND * CELL)).sqrt())
+            .max((ext[0] * ext[1] / (16.0 * n * BAND * CELL)).sqrt())
             .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);

@@ -577,6 +577,7 @@ impl Cell {
                     flip_window: self.spec.errors.flip_window,
                     angle_sigma: self.spec.errors.angle_sigma,
                 },
+                target: a.target,
             },
             vision: VisionParams {
                 eps_pos: v.eps_pos.unwrap_or(defaults.eps_pos),

@@ -112,14 +112,7 @@ pub struct SwarmSpec {
     pub file: Option<String>,
 }
 
-/// Target policies ("choose any").
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TargetPolicy {
-    /// Uniformly at random among the eligible visible points.
-    #[default]
-    Random,
-}
+pub use monoculus_core::algorithms::TargetPolicy;
 
 fn default_step() -> f64 {
     1.0
