@@ -55,6 +55,32 @@ fn index_build(c: &mut Criterion) {
     g.finish();
 }
 
+/// The per-round hull: sorting afresh against sorting from the previous round's order
+/// after a few robots moved (a ConvergeQuadrant round).
+fn hull(c: &mut Criterion) {
+    use monoculus_core::geometry::{convex_hull_2d, convex_hull_2d_from};
+    let mut g = c.benchmark_group("hull");
+    for n in [10_000usize, 100_000] {
+        let mut pts = unit_density(n, 5);
+        let mut order = Vec::new();
+        convex_hull_2d_from(&pts, &mut order);
+        for k in 0..8 {
+            pts[k * 997 % n].x += 0.5;
+        }
+        g.bench_with_input(BenchmarkId::new("sorted_afresh", n), &pts, |b, pts| {
+            b.iter(|| convex_hull_2d(black_box(pts)).len())
+        });
+        g.bench_with_input(BenchmarkId::new("from_last_order", n), &pts, |b, pts| {
+            b.iter_batched(
+                || order.clone(),
+                |mut o| convex_hull_2d_from(black_box(pts), &mut o).len(),
+                criterion::BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+}
+
 fn one_round(c: &mut Criterion) {
     let mut g = c.benchmark_group("round");
     g.sample_size(10);
@@ -103,5 +129,5 @@ fn paper_run(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, queries, index_build, one_round, paper_run);
+criterion_group!(benches, queries, index_build, hull, one_round, paper_run);
 criterion_main!(benches);
