@@ -339,12 +339,15 @@ impl SegmentGrid {
         let inv_slope = da / db;
         // Cheap filter: within twice the tube's radius of the line, strictly between p
         // and q (widened by the rounding of stored coordinates).
-        let near = |&[x, y]: &[f32; 2]| {
-            let (rx, ry) = (f64::from(x) - rpx, f64::from(y) - rpy);
-            let along = rx * dx + ry * dy;
-            !self.single
-                | ((along > -slack) & (along < along_max) & ((rx * dy - ry * dx).abs() <= band))
+        let filter = Filter {
+            origin: [rpx, rpy],
+            d: [dx, dy],
+            slack,
+            along_max,
+            band,
+            single: self.single,
         };
+        let near = |c: &[f32; 2]| filter.near(c);
         // Bands are taken a batch at a time: first where the line crosses each, then
         // its slice's bounds, then its robots, each step prefetching what the next one
         // reads, so that the cache misses of a batch overlap instead of adding up.
@@ -384,7 +387,7 @@ impl SegmentGrid {
             }
             for &(s0, s1) in &slices[..m] {
                 // Candidates are rare: one branch-free pass over the slice first.
-                if !g.coords[s0..s1].iter().fold(false, |any, c| any | near(c)) {
+                if !filter.any(&g.coords[s0..s1]) {
                     continue;
                 }
                 for s in s0..s1 {
@@ -415,6 +418,39 @@ fn quartile_box_area<P: Point>(points: &[P]) -> f64 {
         area *= x3 - x1;
     }
     area
+}
+
+/// The cheap test of [`SegmentGrid::blocked`] on stored coordinates.
+struct Filter {
+    /// The observer, relative to the swarm's corner.
+    origin: [f64; 2],
+    /// The line of sight.
+    d: [f64; 2],
+    slack: f64,
+    along_max: f64,
+    band: f64,
+    single: bool,
+}
+
+impl Filter {
+    #[inline(always)]
+    fn near(&self, &[x, y]: &[f32; 2]) -> bool {
+        let (rx, ry) = (f64::from(x) - self.origin[0], f64::from(y) - self.origin[1]);
+        let [dx, dy] = self.d;
+        let along = rx * dx + ry * dy;
+        !self.single
+            | ((along > -self.slack)
+                & (along < self.along_max)
+                & ((rx * dy - ry * dx).abs() <= self.band))
+    }
+
+    /// Whether some robot of `coords` passes: one branch-free pass. (Compiling it for
+    /// AVX2, dispatched at run time, was measured: no gain, the walk's time is in the
+    /// per-band bookkeeping and memory.)
+    #[inline(always)]
+    fn any(&self, coords: &[[f32; 2]]) -> bool {
+        coords.iter().fold(false, |any, c| any | self.near(c))
+    }
 }
 
 /// The iterator of [`SegmentGrid::nearest_first`].
