@@ -1,4 +1,5 @@
-//! [`IndexedSight`]: the engine's [`Sight`], answered through an rstar R-tree.
+//! [`IndexedSight`]: the engine's [`Sight`], answered through a spatial index: the
+//! [`SegmentGrid`] in the plane, an rstar R-tree in space.
 
 use std::any::Any;
 use std::sync::OnceLock;
@@ -12,19 +13,20 @@ use rstar::{RTree, primitives::GeomWithData};
 
 use super::{IndexPoint, SegmentGrid, Tube};
 
-/// One snapshot of the swarm with an R-tree over it.
+/// One snapshot of the swarm with a spatial index over it, built on first use.
 ///
-/// - `sees(i, j)`: one tube query along the segment i -> j, then the exact predicate on
-///   the few robots found (O(log n + k)).
-/// - `for_each_within`, `nearest_first`: the tree's radius and nearest-neighbour queries.
+/// - `sees(i, j)`: in the plane, a walk along the segment i -> j through the band grid;
+///   in space, one R-tree tube query. Then the exact predicate on the few robots found.
+/// - `for_each_within`, `nearest_first`, `for_each_beyond`: the grid's cells in the
+///   plane (rings of cells, cells outside the disc), the tree's queries in space.
 /// - `visible_points(i)` (a full look): the angular sweep in the plane (O(n log n)),
 ///   one tube query per robot otherwise.
 pub struct IndexedSight<P: IndexPoint> {
     positions: Vec<P>,
-    /// Built on the first visibility question: many activations (OLA inner robots)
-    /// need only the bounding box.
+    /// In space, built on the first visibility question: many activations (OLA inner
+    /// robots) need only the bounding box. Never built in the plane.
     tree: OnceLock<RTree<GeomWithData<P::Array, u32>>>,
-    /// In the plane, lines of sight are walked through a uniform grid (built on first use).
+    /// In the plane, the index (built on first use).
     grid: OnceLock<Box<SegmentGrid>>,
     /// Hull vertices (plane), for farthest-robot questions (built on first use).
     hull: OnceLock<Vec<P>>,

@@ -27,6 +27,18 @@ use super::{IndexPoint, Tube};
 const BAND: f64 = 2.0;
 const CELL: f64 = 1.0;
 
+/// The slot of width `1 / inv` starting at `origin` that holds `v`, clamped to
+/// `0..count` (truncation equals floor here: negative values clamp to 0).
+#[inline]
+fn slot(v: f64, origin: f64, inv: f64, count: usize) -> usize {
+    let k = (v - origin) * inv;
+    if k <= 0.0 {
+        0
+    } else {
+        (k as usize).min(count - 1)
+    }
+}
+
 /// Robots bucketed in bands across one axis, each band cut into cells along the other
 /// (the run axis), in compressed rows: cell `c` of band `r` holds
 /// `items[start[k]..start[k + 1]]` with `k = r * cells + c`, ascending robot indices, so
@@ -94,27 +106,16 @@ impl Bands {
         grid
     }
 
-    /// The cell (along the run axis) of coordinate `v`, clamped to the grid (truncation
-    /// equals floor here: negative values clamp to 0).
+    /// The cell (along the run axis) of coordinate `v`, clamped to the grid.
     #[inline]
     fn cell(&self, v: f64) -> usize {
-        let k = (v - self.origin[0]) * self.inv_width;
-        if k <= 0.0 {
-            0
-        } else {
-            (k as usize).min(self.cells - 1)
-        }
+        slot(v, self.origin[0], self.inv_width, self.cells)
     }
 
     /// The band of coordinate `v` across the run axis, clamped to the grid.
     #[inline]
     fn band(&self, v: f64) -> usize {
-        let k = (v - self.origin[1]) * self.inv_height;
-        if k <= 0.0 {
-            0
-        } else {
-            (k as usize).min(self.bands - 1)
-        }
+        slot(v, self.origin[1], self.inv_height, self.bands)
     }
 
     /// The robots of band `r` in cells `c0..=c1`: indices into `items` and `coords`.
