@@ -1,16 +1,9 @@
 //! ASYNC and error models from the command line.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn monoculus(args: &[&str]) -> std::process::Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_monoculus"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
-    out
-}
+use common::{monoculus, reported};
+use std::path::Path;
 
 fn rows(dir: &Path, drop: &[&str]) -> Vec<Vec<String>> {
     let mut r = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
@@ -133,15 +126,7 @@ fn async_random_timing_and_errors_run_and_are_thread_independent() {
         trace.to_str().unwrap(),
     ]);
     assert!(out.status.success());
-    let rounds: usize = String::from_utf8_lossy(&out.stdout)
-        .split("rounds=")
-        .nth(1)
-        .unwrap()
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let rounds = reported(&String::from_utf8_lossy(&out.stdout), "rounds");
     assert_eq!(
         std::fs::read_to_string(&trace).unwrap().lines().count(),
         rounds + 2

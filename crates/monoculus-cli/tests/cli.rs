@@ -1,18 +1,9 @@
 //! The command line end to end: run, resume, shards, threads, check, trace, look.
 
+mod common;
+
+use common::{monoculus as run, reported};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_monoculus"))
-}
-
-fn run(args: &[&str]) -> Output {
-    let out = bin().args(args).output().expect("monoculus runs");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!stderr.contains("panicked"), "panic: {stderr}");
-    out
-}
 
 fn ok(args: &[&str]) -> String {
     let out = run(args);
@@ -243,15 +234,7 @@ fn trace_writes_one_row_per_round() {
         "algorithm.name=converge_locality",
         "--positions",
     ]);
-    let rounds: usize = stdout
-        .split("rounds=")
-        .nth(1)
-        .unwrap()
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let rounds = reported(&stdout, "rounds");
     let text = std::fs::read_to_string(&out).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(

@@ -1,15 +1,8 @@
 //! `monoculus plot`: figures from results folders and traces.
 
-use std::process::Command;
+mod common;
 
-fn monoculus(args: &[&str]) -> std::process::Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_monoculus"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
-    out
-}
+use common::monoculus;
 
 fn is_png(path: &std::path::Path) -> bool {
     std::fs::read(path).is_ok_and(|b| b.len() > 1000 && b.starts_with(b"\x89PNG"))

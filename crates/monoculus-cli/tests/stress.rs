@@ -1,13 +1,8 @@
 //! `monoculus stress`: the throughput report and its last line.
 
-use std::process::Command;
+mod common;
 
-fn monoculus(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_monoculus"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use common::monoculus;
 
 #[test]
 fn stress_reports_rounds_memory_and_throughput_last() {
