@@ -55,27 +55,18 @@ fn index_build(c: &mut Criterion) {
     g.finish();
 }
 
-/// The per-round hull: sorting afresh against sorting from the previous round's order
-/// after a few robots moved (a ConvergeQuadrant round).
+/// The per-round hull: the monotone chain over every point against the chain after the
+/// throw-away step that drops points certainly interior (what a round uses).
 fn hull(c: &mut Criterion) {
-    use monoculus_core::geometry::{convex_hull_2d, convex_hull_2d_from};
+    use monoculus_core::geometry::{convex_hull_2d, convex_hull_2d_all};
     let mut g = c.benchmark_group("hull");
     for n in [10_000usize, 100_000] {
-        let mut pts = unit_density(n, 5);
-        let mut order = Vec::new();
-        convex_hull_2d_from(&pts, &mut order);
-        for k in 0..8 {
-            pts[k * 997 % n].x += 0.5;
-        }
-        g.bench_with_input(BenchmarkId::new("sorted_afresh", n), &pts, |b, pts| {
-            b.iter(|| convex_hull_2d(black_box(pts)).len())
+        let pts = unit_density(n, 5);
+        g.bench_with_input(BenchmarkId::new("chain_all", n), &pts, |b, pts| {
+            b.iter(|| convex_hull_2d_all(black_box(pts)).len())
         });
-        g.bench_with_input(BenchmarkId::new("from_last_order", n), &pts, |b, pts| {
-            b.iter_batched(
-                || order.clone(),
-                |mut o| convex_hull_2d_from(black_box(pts), &mut o).len(),
-                criterion::BatchSize::LargeInput,
-            )
+        g.bench_with_input(BenchmarkId::new("throw_away_first", n), &pts, |b, pts| {
+            b.iter(|| convex_hull_2d(black_box(pts)).len())
         });
     }
     g.finish();

@@ -104,11 +104,6 @@ pub struct Tally {
 #[derive(Resource, Clone, Debug)]
 pub struct HullVertices<P: IndexPoint>(pub Vec<P>);
 
-/// Robot indices in the order the last hull computation sorted them: the next sort
-/// starts from it (see `HullGeometry::hull_vertices_from`).
-#[derive(Resource, Clone, Debug, Default)]
-pub struct HullOrder(pub Vec<u32>);
-
 /// The shape of the configuration, measured after every round.
 #[derive(Resource, Clone, Debug, Default)]
 pub struct Shape {

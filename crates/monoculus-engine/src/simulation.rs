@@ -14,8 +14,8 @@ use crate::asynchrony::{
 };
 use crate::components::{Activated, Intent, Memory, Position, Robot, Waiting};
 use crate::resources::{
-    Clock, HullOrder, HullVertices, Params, Positions, ScheduleState, Shape, SightBackend,
-    Snapshot, SnapshotSight, Tally,
+    Clock, HullVertices, Params, Positions, ScheduleState, Shape, SightBackend, Snapshot,
+    SnapshotSight, Tally,
 };
 use crate::systems::{
     RoundSet, activate_robots, advance_clock, apply_moves, compute_intents, decide_one,
@@ -195,9 +195,7 @@ impl<P: IndexPoint> Simulation<P> {
         world.insert_resource(ScheduleState::default());
         world.insert_resource(Tally::default());
         world.insert_resource(shape);
-        let mut order = HullOrder::default();
-        world.insert_resource(HullVertices(P::hull_vertices_from(&initial, &mut order.0)));
-        world.insert_resource(order);
+        world.insert_resource(HullVertices(P::hull_vertices(&initial)));
         world.insert_resource(Snapshot::<P> {
             sight: None,
             generation: 0,

@@ -10,61 +10,103 @@ use monoculus_core::vision::{visible_points_brute, visible_points_sweep_2d};
 fn sweep_and_rtree_match_the_definition() {
     for seed in 0..4 {
         for (name, pts) in common::zoo(seed) {
-            let v = VisionParams::default();
-            let indexed = monoculus_engine::IndexedSight::new(pts.clone(), v);
-            let exact = ExactSight::new(pts.clone(), v);
-            for i in 0..pts.len() {
-                let brute = visible_points_brute(&pts, i, &v);
-                assert_eq!(
-                    visible_points_sweep_2d(&pts, i, &v),
-                    brute,
-                    "{name} seed {seed} robot {i}: sweep"
-                );
-                assert_eq!(
-                    indexed.visible_points(i),
-                    brute,
-                    "{name} seed {seed} robot {i}: index full look"
-                );
-                for j in 0..pts.len() {
-                    let expect = brute.contains(&j);
-                    assert_eq!(
-                        indexed.is_visible_point(i, j),
-                        expect,
-                        "{name} seed {seed}: {i} -> {j}"
-                    );
-                    assert_eq!(
-                        exact.is_visible_point(i, j),
-                        expect,
-                        "{name} seed {seed}: {i} -> {j} exact"
-                    );
+            let indexed = monoculus_engine::IndexedSight::new(pts.clone(), VisionParams::default());
+            agrees_with_the_definition(&format!("{name} seed {seed}"), &indexed, &pts);
+        }
+    }
+}
+
+/// Every query of `indexed` (over `pts`) against the definition and the brute-force
+/// sight.
+fn agrees_with_the_definition(
+    name: &str,
+    indexed: &monoculus_engine::IndexedSight<glam::DVec2>,
+    pts: &[glam::DVec2],
+) {
+    let v = VisionParams::default();
+    let exact = ExactSight::new(pts.to_vec(), v);
+    for i in 0..pts.len() {
+        let brute = visible_points_brute(pts, i, &v);
+        assert_eq!(
+            visible_points_sweep_2d(pts, i, &v),
+            brute,
+            "{name} robot {i}: sweep"
+        );
+        assert_eq!(
+            indexed.visible_points(i),
+            brute,
+            "{name} robot {i}: index full look"
+        );
+        for j in 0..pts.len() {
+            let expect = brute.contains(&j);
+            assert_eq!(indexed.is_visible_point(i, j), expect, "{name}: {i} -> {j}");
+            assert_eq!(
+                exact.is_visible_point(i, j),
+                expect,
+                "{name}: {i} -> {j} exact"
+            );
+        }
+        let mut near_a = vec![];
+        indexed.for_each_within(i, 2.0, &mut |k| near_a.push(k));
+        let mut near_b = vec![];
+        exact.for_each_within(i, 2.0, &mut |k| near_b.push(k));
+        near_a.sort_unstable();
+        assert_eq!(near_a, near_b, "{name}: radius query");
+        for radius in [0.5, 2.0, 7.0] {
+            let mut a = vec![];
+            indexed.for_each_beyond(i, radius, &mut |k| a.push(k));
+            let mut b = vec![];
+            exact.for_each_beyond(i, radius, &mut |k| b.push(k));
+            a.sort_unstable();
+            assert_eq!(a, b, "{name}: robots beyond {radius}");
+        }
+        let (fa, fb) = (indexed.farthest(i), exact.farthest(i));
+        assert!(
+            (fa - fb).abs() <= 1e-12 * fb.max(1.0),
+            "{name}: farthest {fa} vs {fb}"
+        );
+        let dist = |k: usize| pts[k].distance(pts[i]);
+        let order: Vec<f64> = indexed.nearest_first(i).map(dist).collect();
+        assert_eq!(order.len(), pts.len() - 1);
+        assert!(
+            order.windows(2).all(|w| w[0] <= w[1]),
+            "{name}: nearest_first order"
+        );
+    }
+}
+
+/// A sight taken after a few robots moved keeps the previous grid and marks them stale:
+/// its answers are still the definition's, with robots moved onto others, between two
+/// others (blocking them) and back, over several generations; a move out of the grid's
+/// box gives a fresh grid.
+#[test]
+fn a_sight_after_a_few_moves_answers_as_a_fresh_one() {
+    use monoculus_engine::IndexedSight;
+    let v = VisionParams::default();
+    for seed in 0..2 {
+        for (name, mut pts) in common::zoo(seed) {
+            let mut sight = IndexedSight::new(pts.clone(), v);
+            sight.sees(0, 1); // builds the grid
+            let moves: [&[(usize, usize, usize)]; 2] = [
+                &[(1, 2, 2), (3, 4, 5), (5, 0, 6)],
+                &[(3, 3, 3), (7, 8, 8), (1, 9, 10)],
+            ];
+            for (generation, step) in moves.iter().enumerate() {
+                for &(k, a, b) in step.iter() {
+                    pts[k] = (pts[a] + pts[b]) * 0.5;
                 }
-                let mut near_a = vec![];
-                indexed.for_each_within(i, 2.0, &mut |k| near_a.push(k));
-                let mut near_b = vec![];
-                exact.for_each_within(i, 2.0, &mut |k| near_b.push(k));
-                near_a.sort_unstable();
-                assert_eq!(near_a, near_b, "{name}: radius query");
-                for radius in [0.5, 2.0, 7.0] {
-                    let mut a = vec![];
-                    indexed.for_each_beyond(i, radius, &mut |k| a.push(k));
-                    let mut b = vec![];
-                    exact.for_each_beyond(i, radius, &mut |k| b.push(k));
-                    a.sort_unstable();
-                    assert_eq!(a, b, "{name}: robots beyond {radius}");
-                }
-                let (fa, fb) = (indexed.farthest(i), exact.farthest(i));
-                assert!(
-                    (fa - fb).abs() <= 1e-12 * fb.max(1.0),
-                    "{name}: farthest {fa} vs {fb}"
-                );
-                let dist = |k: usize| pts[k].distance(pts[i]);
-                let order: Vec<f64> = indexed.nearest_first(i).map(dist).collect();
-                assert_eq!(order.len(), pts.len() - 1);
-                assert!(
-                    order.windows(2).all(|w| w[0] <= w[1]),
-                    "{name}: nearest_first order"
+                sight = IndexedSight::after(sight, pts.clone(), v);
+                assert!(sight.stale_robots() > 0, "{name}: the grid is kept");
+                agrees_with_the_definition(
+                    &format!("{name} seed {seed} generation {generation}"),
+                    &sight,
+                    &pts,
                 );
             }
+            pts[0] += glam::DVec2::splat(100.0);
+            sight = IndexedSight::after(sight, pts.clone(), v);
+            assert_eq!(sight.stale_robots(), 0, "{name}: a fresh grid");
+            agrees_with_the_definition(&format!("{name} seed {seed} moved out"), &sight, &pts);
         }
     }
 }

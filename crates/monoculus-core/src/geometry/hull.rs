@@ -20,12 +20,6 @@ pub trait HullGeometry: Point {
     fn hull_vertices(_points: &[Self]) -> Vec<Self> {
         Vec::new()
     }
-    /// The same vertices, sorting the points starting from `order` (robot indices in
-    /// the order the last call sorted them, or empty), which is updated. Sorting is
-    /// adaptive: when few robots moved since, it costs about O(n), not O(n log n).
-    fn hull_vertices_from(points: &[Self], _order: &mut Vec<u32>) -> Vec<Self> {
-        Self::hull_vertices(points)
-    }
     /// Whether `p` lies strictly inside the hull with these vertices, by a margin that
     /// rounding cannot cross; `false` when unsure. Adding such points to a set leaves
     /// its hull exactly as it is.
@@ -34,11 +28,21 @@ pub trait HullGeometry: Point {
     }
 }
 
-/// The convex hull of a planar point set, counter-clockwise, without collinear
-/// points on its edges (Andrew's monotone chain, O(n log n)).
+/// The convex hull of a planar point set, counter-clockwise from its lowest-x point,
+/// without collinear points on its edges (Andrew's monotone chain with exact
+/// orientations, after discarding points that are certainly interior: about O(n) for
+/// a swarm, O(n log n) at worst).
 pub fn convex_hull_2d(points: &[DVec2]) -> Vec<DVec2> {
-    let mut pts: Vec<DVec2> = points.to_vec();
-    pts.sort_by(by_x_then_y);
+    let mut pts = hull_candidates(points);
+    pts.sort_unstable_by(by_x_then_y);
+    monotone_chain(pts)
+}
+
+/// [`convex_hull_2d`] without the throw-away step: the chain over every point (the
+/// reference the step is tested and benchmarked against).
+pub fn convex_hull_2d_all(points: &[DVec2]) -> Vec<DVec2> {
+    let mut pts = points.to_vec();
+    pts.sort_unstable_by(by_x_then_y);
     monotone_chain(pts)
 }
 
@@ -48,18 +52,113 @@ fn by_x_then_y(a: &DVec2, b: &DVec2) -> std::cmp::Ordering {
     a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
 }
 
-/// [`convex_hull_2d`], sorting from the order of the previous call (see
-/// [`HullGeometry::hull_vertices_from`]): the same vertices.
-pub fn convex_hull_2d_from(points: &[DVec2], order: &mut Vec<u32>) -> Vec<DVec2> {
-    if order.len() != points.len() {
-        *order = (0..points.len() as u32).collect();
+/// The points that may be vertices of the hull: all but those that lie strictly left of
+/// every edge of the polygon through the extreme points in eight directions (Akl and
+/// Toussaint's throw-away step).
+///
+/// Why this cannot change the hull, whatever polygon is used: the polygon's vertices
+/// are points of the set, and a point strictly left of each of its edges (by the exact
+/// predicate) sees the boundary wind around it with every step turning forward, so it
+/// is neither outside the polygon's hull nor on a supporting line of the set: it is
+/// interior, and an exact chain never keeps an interior point. The sequence of vertices
+/// is unique, so it is the same to the bit. Most points fall in a box inscribed in the
+/// polygon (four comparisons); the rest take up to eight exact orientations.
+fn hull_candidates(points: &[DVec2]) -> Vec<DVec2> {
+    const FEW: usize = 64;
+    if points.len() < FEW {
+        return points.to_vec();
     }
-    let mut keyed: Vec<(DVec2, u32)> = order.iter().map(|&i| (points[i as usize], i)).collect();
-    keyed.sort_by(|a, b| by_x_then_y(&a.0, &b.0));
-    for (slot, &(_, i)) in order.iter_mut().zip(&keyed) {
-        *slot = i;
+    let octagon = extreme_octagon(points);
+    let mut polygon = octagon.to_vec();
+    polygon.dedup();
+    while polygon.len() > 1 && polygon.first() == polygon.last() {
+        polygon.pop();
     }
-    monotone_chain(keyed.into_iter().map(|(p, _)| p).collect())
+    if polygon.len() < 3 {
+        return points.to_vec();
+    }
+    let edges: Vec<(DVec2, DVec2)> = (0..polygon.len())
+        .map(|i| (polygon[i], polygon[(i + 1) % polygon.len()]))
+        .collect();
+    let interior = |p: DVec2| edges.iter().all(|&(a, b)| orient(a, b, p) > 0.0);
+    let boxed = inscribed_box(&octagon, &interior);
+    points
+        .iter()
+        .copied()
+        .filter(|&p| {
+            let in_box = boxed.is_some_and(|(lo, hi)| p.cmpge(lo).all() && p.cmple(hi).all());
+            !in_box && !interior(p)
+        })
+        .collect()
+}
+
+/// The points extreme in eight directions, counter-clockwise from "down": the lowest,
+/// then the largest x - y, x, x + y, y, y - x, and the smallest x, x + y (the first
+/// found where several tie; rounded projections are fine, as any points will do). One
+/// pass.
+fn extreme_octagon(points: &[DVec2]) -> [DVec2; 8] {
+    let project = |p: DVec2| [p.x, p.y, p.x + p.y, p.x - p.y];
+    let first = project(points[0]);
+    let (mut lo, mut hi) = (first, first);
+    let (mut arg_lo, mut arg_hi) = ([0usize; 4], [0usize; 4]);
+    for (i, &p) in points.iter().enumerate().skip(1) {
+        let v = project(p);
+        for k in 0..4 {
+            if v[k] < lo[k] {
+                lo[k] = v[k];
+                arg_lo[k] = i;
+            }
+            if v[k] > hi[k] {
+                hi[k] = v[k];
+                arg_hi[k] = i;
+            }
+        }
+    }
+    let (x, y, sum, diff) = (0, 1, 2, 3);
+    [
+        arg_lo[y],
+        arg_hi[diff],
+        arg_hi[x],
+        arg_hi[sum],
+        arg_hi[y],
+        arg_lo[diff],
+        arg_lo[x],
+        arg_lo[sum],
+    ]
+    .map(|i| points[i])
+}
+
+/// A box whose four corners pass `interior` (then so does all of it: the points that
+/// pass are an intersection of half-planes, which is convex), as large as a few tries
+/// find. First tries: the box between the octagon's inner sides (`octagon` as from
+/// [`extreme_octagon`]), which is nearly all of it for square-ish swarms, shrunk a
+/// little at a time about its centre; then the octagon's bounding box shrunk about the
+/// vertices' mean (diamonds and other shapes).
+fn inscribed_box(
+    octagon: &[DVec2; 8],
+    interior: &impl Fn(DVec2) -> bool,
+) -> Option<(DVec2, DVec2)> {
+    let [b, br, r, ur, t, ul, l, ll] = *octagon;
+    let tight = (
+        DVec2::new(l.x.max(ul.x).max(ll.x), b.y.max(ll.y).max(br.y)),
+        DVec2::new(r.x.min(ur.x).min(br.x), t.y.min(ul.y).min(ur.y)),
+    );
+    let (lo, hi) = octagon.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let mean = octagon.iter().copied().sum::<DVec2>() / 8.0;
+    let tries = [1.0, 0.999, 0.99, 0.95]
+        .map(|s| (tight, 0.5 * (tight.0 + tight.1), s))
+        .into_iter()
+        .chain([0.98, 0.9, 0.75, 0.5, 0.3].map(|s| ((lo, hi), mean, s)));
+    tries
+        .filter(|&((a, b), _, _)| a.cmplt(b).all())
+        .find_map(|((a, b), centre, s)| {
+            let (a, b) = (centre + s * (a - centre), centre + s * (b - centre));
+            let corners = [a, DVec2::new(b.x, a.y), b, DVec2::new(a.x, b.y)];
+            corners.iter().all(|&c| interior(c)).then_some((a, b))
+        })
 }
 
 /// Andrew's monotone chain over points sorted by [`by_x_then_y`].
@@ -68,7 +167,7 @@ fn monotone_chain(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     if pts.len() < 3 {
         return pts;
     }
-    let cross = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+    let cross = orient;
     let mut hull: Vec<DVec2> = Vec::with_capacity(2 * pts.len());
     for &p in &pts {
         while hull.len() >= 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
@@ -86,6 +185,16 @@ fn monotone_chain(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     }
     hull.pop();
     hull
+}
+
+/// Twice the signed area of the triangle `o, a, b`, with the exact sign: positive when
+/// the turn `o -> a -> b` is counter-clockwise, zero only when the three are collinear
+/// (Shewchuk's adaptive predicate: one rounded cross product unless that is too close
+/// to zero to trust).
+#[inline]
+fn orient(o: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let c = |p: DVec2| robust::Coord { x: p.x, y: p.y };
+    robust::orient2d(c(o), c(a), c(b))
 }
 
 /// Area of a simple polygon given in order (shoelace formula).
@@ -132,10 +241,6 @@ impl HullGeometry for DVec2 {
         convex_hull_2d(points)
     }
 
-    fn hull_vertices_from(points: &[Self], order: &mut Vec<u32>) -> Vec<Self> {
-        convex_hull_2d_from(points, order)
-    }
-
     /// O(log h): find the wedge from vertex 0 containing `p`, then test the edge.
     fn strictly_inside(hull: &[Self], p: Self) -> bool {
         let h = hull.len();
@@ -169,38 +274,74 @@ impl HullGeometry for DVec2 {
 mod tests {
     use super::*;
 
-    /// Sorting from a stale order (after some points moved), from a shuffled one, or
-    /// with duplicates and signed zeros gives the very same vertices as sorting afresh.
+    /// The throw-away step against the chain over every point, to the bit: random,
+    /// lattice, collinear, co-located, cocircular and near-degenerate sets.
     #[test]
-    fn hull_from_a_previous_order_is_the_hull() {
+    fn throwing_away_interior_points_keeps_the_hull() {
         let mut rng = crate::rng::Stream::new(5, 0, 0, 0);
-        let mut pts: Vec<DVec2> = (0..300)
-            .map(|_| DVec2::new(rng.uniform_in(-3.0, 3.0), rng.uniform_in(-3.0, 3.0)))
-            .collect();
-        pts.extend([DVec2::new(0.0, -0.0), DVec2::new(-0.0, 0.0), pts[7], pts[7]]);
-        let mut order = Vec::new();
-        for round in 0..50 {
-            assert_eq!(
-                convex_hull_2d_from(&pts, &mut order),
-                convex_hull_2d(&pts),
-                "round {round}"
+        let mut sets: Vec<Vec<DVec2>> = Vec::new();
+        for n in [64, 100, 1000, 5000] {
+            sets.push(
+                (0..n)
+                    .map(|_| DVec2::new(rng.uniform_in(-3.0, 3.0), rng.uniform_in(0.0, 0.1)))
+                    .collect(),
             );
-            let mut sorted = order.clone();
-            sorted.sort_unstable();
-            assert!(sorted.iter().enumerate().all(|(k, &i)| k == i as usize));
-            // A few robots move, some to the hull and beyond it.
-            for _ in 0..(1 + round % 7) {
-                let i = rng.below(pts.len());
-                pts[i] += DVec2::new(rng.uniform_in(-2.0, 2.0), rng.uniform_in(-2.0, 2.0));
-            }
-            if round % 10 == 9 {
-                order = rng
-                    .permutation(pts.len())
-                    .into_iter()
-                    .map(|i| i as u32)
-                    .collect();
-            }
+            // A diamond: the box must shrink to fit inside.
+            sets.push(
+                (0..n)
+                    .map(|_| {
+                        let (u, v) = (rng.uniform_in(0.0, 1.0), rng.uniform_in(0.0, 1.0));
+                        DVec2::new(u - v, u + v)
+                    })
+                    .collect(),
+            );
         }
+        // Lattice with spacing 0.1 (inexact coordinates) and its edge midpoints.
+        sets.push(
+            (0..900)
+                .map(|i| DVec2::new((i % 30) as f64 * 0.1, (i / 30) as f64 * 0.1))
+                .collect(),
+        );
+        // Collinear, co-located, cocircular.
+        sets.push(
+            (0..200)
+                .map(|i| DVec2::new(i as f64 * 0.3, i as f64 * 0.7))
+                .collect(),
+        );
+        sets.push(vec![DVec2::new(1.5, -2.0); 100]);
+        sets.push(
+            (0..360)
+                .map(|i| DVec2::from_angle((i as f64).to_radians()) * 7.0)
+                .collect(),
+        );
+        // Points a few ulps off the edges of a square, and signed zeros.
+        let mut near: Vec<DVec2> = (0..400)
+            .map(|i| {
+                let t = rng.uniform_in(0.0, 1.0);
+                let off = (i % 5) as f64 - 2.0;
+                match i % 4 {
+                    0 => DVec2::new(t, off * f64::EPSILON),
+                    1 => DVec2::new(1.0 + off * f64::EPSILON, t),
+                    2 => DVec2::new(t, 1.0 + off * f64::EPSILON),
+                    _ => DVec2::new(off * f64::EPSILON, t),
+                }
+            })
+            .collect();
+        near.extend([DVec2::new(0.0, -0.0), DVec2::new(-0.0, 0.0), DVec2::ONE]);
+        sets.push(near);
+        for (k, pts) in sets.iter().enumerate() {
+            let expected = convex_hull_2d_all(pts);
+            assert_eq!(convex_hull_2d(pts), expected, "set {k}");
+            let mut shuffled = pts.clone();
+            shuffled.reverse();
+            assert_eq!(convex_hull_2d(&shuffled), expected, "set {k} reversed");
+        }
+        // And it throws most of a uniform square away.
+        let square: Vec<DVec2> = (0..10_000)
+            .map(|_| DVec2::new(rng.uniform_in(0.0, 100.0), rng.uniform_in(0.0, 100.0)))
+            .collect();
+        let kept = hull_candidates(&square).len();
+        assert!(kept < 500, "kept {kept} of 10000");
     }
 
     #[test]

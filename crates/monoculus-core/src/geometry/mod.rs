@@ -6,6 +6,6 @@ mod hull3d;
 mod point;
 
 pub use axis_frame::{AxisFrame, MAX_DIM};
-pub use hull::{HullGeometry, convex_hull_2d, convex_hull_2d_from, polygon_area};
+pub use hull::{HullGeometry, convex_hull_2d, convex_hull_2d_all, polygon_area};
 pub use hull3d::convex_hull_3d;
 pub use point::{Point, angle_between};

@@ -11,7 +11,7 @@ use monoculus_core::vision::{
 };
 use rstar::{RTree, primitives::GeomWithData};
 
-use super::{IndexPoint, SegmentGrid, Tube};
+use super::{IndexPoint, SegmentGrid, Stale, Tube};
 
 /// One snapshot of the swarm with a spatial index over it, built on first use.
 ///
@@ -21,13 +21,20 @@ use super::{IndexPoint, SegmentGrid, Tube};
 ///   plane (rings of cells, cells outside the disc), the tree's queries in space.
 /// - `visible_points(i)` (a full look): the angular sweep in the plane (O(n log n)),
 ///   one tube query per robot otherwise.
+///
+/// A sight taken [after](IndexedSight::after) another in which few robots moved keeps
+/// the other's grid: the robots that moved since it was built are [`Stale`], skipped in
+/// its cells and tested one by one (late ConvergeQuadrant rounds move a handful of
+/// robots out of thousands, and rebuilding the grid was a fifth of such a round).
 pub struct IndexedSight<P: IndexPoint> {
     positions: Vec<P>,
     /// In space, built on the first visibility question: many activations (OLA inner
     /// robots) need only the bounding box. Never built in the plane.
     tree: OnceLock<RTree<GeomWithData<P::Array, u32>>>,
-    /// In the plane, the index (built on first use).
+    /// In the plane, the index (built on first use, or inherited).
     grid: OnceLock<Box<SegmentGrid>>,
+    /// The robots whose positions differ from those `grid` was built over.
+    stale: Stale,
     /// Hull vertices (plane), for farthest-robot questions (built on first use).
     hull: OnceLock<Vec<P>>,
     vision: VisionParams,
@@ -39,6 +46,7 @@ impl<P: IndexPoint> IndexedSight<P> {
     pub fn new(positions: Vec<P>, vision: VisionParams) -> Self {
         let bounds = bounds(&positions);
         IndexedSight {
+            stale: Stale::none(positions.len()),
             positions,
             tree: OnceLock::new(),
             grid: OnceLock::new(),
@@ -46,6 +54,42 @@ impl<P: IndexPoint> IndexedSight<P> {
             vision,
             bounds,
         }
+    }
+
+    /// A sight over `positions`, a later configuration of the swarm `previous` saw. If
+    /// `previous` built its grid and since then at most n / 64 robots moved, all within
+    /// the grid's box, the grid is kept and those robots are marked stale; otherwise as
+    /// [`IndexedSight::new`]. Every answer is the same either way (tested).
+    pub fn after(previous: Self, positions: Vec<P>, vision: VisionParams) -> Self {
+        let mut next = Self::new(positions, vision);
+        let n = next.positions.len();
+        if P::DIM != 2 || previous.positions.len() != n {
+            return next;
+        }
+        let Some(grid) = previous.grid.into_inner() else {
+            return next;
+        };
+        let limit = (n / 64).max(8);
+        let mut stale = previous.stale;
+        for (k, (was, now)) in previous.positions.iter().zip(&next.positions).enumerate() {
+            if was != now {
+                if !grid.covers(now.axis(0), now.axis(1)) {
+                    return next;
+                }
+                stale.insert(k);
+            }
+        }
+        if stale.len() > limit {
+            return next;
+        }
+        next.stale = stale;
+        next.grid = OnceLock::from(grid);
+        next
+    }
+
+    /// How many robots moved since the grid in use was built (0 for a fresh one).
+    pub fn stale_robots(&self) -> usize {
+        self.stale.len()
     }
 
     fn grid(&self) -> &SegmentGrid {
@@ -90,7 +134,10 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
             return false;
         }
         if P::DIM == 2 {
-            return !self.grid().blocked(&self.positions, i, j, &self.vision);
+            let blocker =
+                |k: usize| k != i && k != j && blocks(p, self.positions[k], q, &self.vision);
+            return !self.grid().blocked(&self.positions, i, j, &self.vision)
+                && !self.stale.iter().any(blocker);
         }
         let tube = Tube::new(p, q, self.vision.eps_ang);
         !self
@@ -106,12 +153,23 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
         let p = self.positions[i];
         if P::DIM == 2 {
             // The same exact test as the oracle, on the grid's candidates.
-            self.grid()
-                .for_each_near(p.axis(0), p.axis(1), radius, &mut |k| {
-                    if k != i && (self.positions[k] - p).length() <= radius {
-                        f(k);
-                    }
-                });
+            let mut test = |k: usize| {
+                if k != i && (self.positions[k] - p).length() <= radius {
+                    f(k);
+                }
+            };
+            if self.stale.is_empty() {
+                self.grid()
+                    .for_each_near(p.axis(0), p.axis(1), radius, &mut test);
+            } else {
+                self.grid()
+                    .for_each_near(p.axis(0), p.axis(1), radius, &mut |k| {
+                        if !self.stale.contains(k) {
+                            test(k)
+                        }
+                    });
+                self.stale.iter().for_each(test);
+            }
             return;
         }
         // Ask the tree for a slightly larger radius, then decide with the same test as
@@ -127,7 +185,7 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
 
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
         if P::DIM == 2 {
-            return Box::new(self.grid().nearest_first(&self.positions, i));
+            return Box::new(self.grid().nearest_first(&self.positions, i, &self.stale));
         }
         let p = self.positions[i].to_array();
         Box::new(
@@ -153,7 +211,22 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
     /// R-tree nodes entirely within `radius` are skipped: O(robots beyond + boundary).
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
         if P::DIM == 2 {
-            return self.grid().for_each_beyond(&self.positions, i, radius, f);
+            let grid = self.grid();
+            if self.stale.is_empty() {
+                return grid.for_each_beyond(&self.positions, i, radius, f);
+            }
+            grid.for_each_beyond(&self.positions, i, radius, &mut |k| {
+                if !self.stale.contains(k) {
+                    f(k)
+                }
+            });
+            let p = self.positions[i];
+            for k in self.stale.iter() {
+                if (self.positions[k] - p).length() > radius {
+                    f(k);
+                }
+            }
+            return;
         }
         let p = self.positions[i];
         let selection = Beyond::<P> {

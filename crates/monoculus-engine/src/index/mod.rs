@@ -9,5 +9,5 @@ mod tube;
 
 pub use index_point::IndexPoint;
 pub use indexed_sight::IndexedSight;
-pub use segment_grid::SegmentGrid;
+pub use segment_grid::{SegmentGrid, Stale};
 pub use tube::Tube;

@@ -154,6 +154,8 @@ pub struct SegmentGrid {
     spacing: f64,
     /// The lower corner of the swarm, origin of the stored coordinates.
     lo: [f64; 2],
+    /// The upper corner of the swarm.
+    hi: [f64; 2],
     /// The largest rounding error of a stored coordinate.
     rounding: f64,
     /// Whether the stored coordinates are finite (else every robot is a candidate).
@@ -194,11 +196,19 @@ impl SegmentGrid {
             columns: Bands::new(points, 1, lo, hi, spacing),
             spacing,
             lo,
+            hi,
             // A relative coordinate r is stored as r(1 + e) with |e| <= 2^-24; the
             // filter trusts single precision only while coordinates are finite there.
             rounding: longest * 2f64.powi(-24),
             single: longest < 1e30,
         }
+    }
+
+    /// Whether `(x, y)` lies in the box of the robots the grid was built over: a robot
+    /// that moved there may be handled as [`Stale`] (every geometric bound of the
+    /// walks holds for points in the box).
+    pub fn covers(&self, x: f64, y: f64) -> bool {
+        (self.lo[0] <= x) & (x <= self.hi[0]) & (self.lo[1] <= y) & (y <= self.hi[1])
     }
 
     /// The mean spacing between robots (the side of a cell).
@@ -219,14 +229,21 @@ impl SegmentGrid {
 
     /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
     /// around its cell, each robot given out once no unvisited cell can hold a nearer
-    /// one. O(k log k) for the first k.
+    /// one. O(k log k) for the first k. The `stale` robots are skipped in the cells
+    /// and queued at once from their current positions.
     pub fn nearest_first<'a, P: Point>(
         &'a self,
         positions: &'a [P],
         i: usize,
+        stale: &'a Stale,
     ) -> impl Iterator<Item = usize> + 'a {
         let p = positions[i];
         let g = &self.rows;
+        let heap = stale
+            .iter()
+            .filter(|&k| k != i)
+            .map(|k| std::cmp::Reverse(((positions[k] - p).length().to_bits(), k)))
+            .collect();
         Nearest {
             grid: g,
             positions,
@@ -236,7 +253,8 @@ impl SegmentGrid {
             ring: None,
             reach: 0.0,
             exhausted: false,
-            heap: std::collections::BinaryHeap::new(),
+            heap,
+            stale,
         }
     }
 
@@ -403,6 +421,57 @@ impl SegmentGrid {
     }
 }
 
+/// Robots that moved since a grid was built (to points it [covers](SegmentGrid::covers)):
+/// their cells are out of date, so queries skip them in the cells, where that matters,
+/// and test them one by one at their current positions. A set of robot indices: a
+/// list, and a bit per robot.
+#[derive(Debug, Default)]
+pub struct Stale {
+    list: Vec<u32>,
+    bits: Vec<u64>,
+}
+
+impl Stale {
+    /// No robot, for a swarm of `n`.
+    pub fn none(n: usize) -> Self {
+        Stale {
+            list: Vec::new(),
+            bits: vec![0; n.div_ceil(64)],
+        }
+    }
+
+    /// Whether robot `k` is in the set.
+    #[inline]
+    pub fn contains(&self, k: usize) -> bool {
+        self.bits
+            .get(k / 64)
+            .is_some_and(|w| w & (1u64 << (k % 64)) != 0)
+    }
+
+    /// Adds robot `k` (which must be below the swarm size given to [`Stale::none`]).
+    pub fn insert(&mut self, k: usize) {
+        if !self.contains(k) {
+            self.bits[k / 64] |= 1u64 << (k % 64);
+            self.list.push(k as u32);
+        }
+    }
+
+    /// How many robots are in the set.
+    pub fn len(&self) -> usize {
+        self.list.len()
+    }
+
+    /// Whether the set is empty.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// The robots, in the order they were added.
+    pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        self.list.iter().map(|&k| k as usize)
+    }
+}
+
 /// The area of the box between the first and third quartiles of each coordinate,
 /// estimated from at most 4096 robots (evenly strided: a function of the positions).
 fn quartile_box_area<P: Point>(points: &[P]) -> f64 {
@@ -470,6 +539,8 @@ struct Nearest<'a, P: Point> {
     exhausted: bool,
     /// Visited robots not yet given out: (distance bits, robot), nearest on top.
     heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>>,
+    /// Robots whose cells are out of date (queued from the start).
+    stale: &'a Stale,
 }
 
 impl<P: Point> Nearest<'_, P> {
@@ -487,7 +558,7 @@ impl<P: Point> Nearest<'_, P> {
         let push = |range: std::ops::Range<usize>, heap: &mut std::collections::BinaryHeap<_>| {
             for s in range {
                 let j = g.items[s] as usize;
-                if j != self.i {
+                if j != self.i && !self.stale.contains(j) {
                     let d = (self.positions[j] - self.p).length();
                     heap.push(std::cmp::Reverse((d.to_bits(), j)));
                 }

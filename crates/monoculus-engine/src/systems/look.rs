@@ -18,7 +18,14 @@ fn update<P: IndexPoint>(params: &Params, positions: &Positions<P>, snapshot: &m
     if snapshot.sight.is_some() && snapshot.generation == positions.generation {
         return;
     }
-    snapshot.sight = Some(build_sight(params, positions.points.clone()));
+    let points = positions.points.clone();
+    snapshot.sight = Some(match snapshot.sight.take() {
+        // Keeps the index if few robots moved (same answers).
+        Some(SnapshotSight::Index(previous)) => {
+            SnapshotSight::Index(IndexedSight::after(previous, points, params.vision))
+        }
+        _ => build_sight(params, points),
+    });
     snapshot.generation = positions.generation;
 }
 

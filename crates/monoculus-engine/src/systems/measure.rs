@@ -2,7 +2,7 @@ use bevy_ecs::prelude::*;
 
 use crate::IndexPoint;
 use crate::components::{Activated, Intent, Robot};
-use crate::resources::{Clock, HullOrder, HullVertices, Positions, Shape, Tally};
+use crate::resources::{Clock, HullVertices, Positions, Shape, Tally};
 
 /// Relative tolerance for "the hull grew": moving inside the hull changes its area only
 /// by rounding.
@@ -14,13 +14,12 @@ pub fn measure_shape<P: IndexPoint>(
     positions: Res<Positions<P>>,
     mut shape: ResMut<Shape>,
     mut hull: ResMut<HullVertices<P>>,
-    mut order: ResMut<HullOrder>,
     mut tally: ResMut<Tally>,
 ) {
     if tally.round_moves == 0 {
         return;
     }
-    hull.0 = P::hull_vertices_from(&positions.points, &mut order.0);
+    hull.0 = P::hull_vertices(&positions.points);
     // Area, diameter and extents are those of the hull's vertices (the same vertex
     // sequence, so the same values to the bit); in space there is no vertex list.
     let basis = if hull.0.is_empty() {
