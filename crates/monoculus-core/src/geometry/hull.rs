@@ -20,9 +20,9 @@ pub trait HullGeometry: Point {
     fn hull_vertices(_points: &[Self]) -> Vec<Self> {
         Vec::new()
     }
-    /// Whether `p` lies strictly inside the hull with these vertices, by a margin that
-    /// rounding cannot cross; `false` when unsure. Adding such points to a set leaves
-    /// its hull exactly as it is.
+    /// Whether `p` lies strictly inside the hull with these vertices (exact orientation
+    /// signs; `false` where no such test exists). Adding such points to a set leaves its
+    /// hull exactly as it is: the exact chain never keeps an interior point.
     fn strictly_inside(_hull: &[Self], _p: Self) -> bool {
         false
     }
@@ -167,17 +167,17 @@ fn monotone_chain(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     if pts.len() < 3 {
         return pts;
     }
-    let cross = orient;
     let mut hull: Vec<DVec2> = Vec::with_capacity(2 * pts.len());
     for &p in &pts {
-        while hull.len() >= 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+        while hull.len() >= 2 && orient(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
             hull.pop();
         }
         hull.push(p);
     }
     let lower_len = hull.len() + 1;
     for &p in pts.iter().rev().skip(1) {
-        while hull.len() >= lower_len && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+        while hull.len() >= lower_len
+            && orient(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
         {
             hull.pop();
         }
@@ -241,32 +241,28 @@ impl HullGeometry for DVec2 {
         convex_hull_2d(points)
     }
 
-    /// O(log h): find the wedge from vertex 0 containing `p`, then test the edge.
+    /// O(log h): find the wedge from vertex 0 containing `p`, then test the edge, all
+    /// with the exact predicate of the chain.
     fn strictly_inside(hull: &[Self], p: Self) -> bool {
         let h = hull.len();
         if h < 3 {
             return false;
         }
-        let scale = hull
-            .iter()
-            .fold(p.abs().max_element(), |m, v| m.max(v.abs().max_element()));
-        let margin = 1e-9 * scale * scale;
         let o = hull[0];
-        let cross = |a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
         // Counter-clockwise: p must be left of o->hull[1] and right of o->hull[h-1].
-        if cross(hull[1], p) <= margin || cross(hull[h - 1], p) >= -margin {
+        if orient(o, hull[1], p) <= 0.0 || orient(o, hull[h - 1], p) >= 0.0 {
             return false;
         }
         let (mut lo, mut hi) = (1, h - 1);
         while hi - lo > 1 {
             let mid = (lo + hi) / 2;
-            if cross(hull[mid], p) > 0.0 {
+            if orient(o, hull[mid], p) > 0.0 {
                 lo = mid
             } else {
                 hi = mid
             }
         }
-        (hull[hi] - hull[lo]).perp_dot(p - hull[lo]) > margin
+        orient(hull[lo], hull[hi], p) > 0.0
     }
 }
 
