@@ -71,12 +71,22 @@ pub trait Sight<P: Point>: Sync {
         self.len() == 0
     }
 
+    /// Whether certainly no robot other than `j` lies within `eps_pos` of it (`false`
+    /// when unsure, the default): spares [`Sight::is_visible_point`] its search for
+    /// co-located robots.
+    fn alone(&self, _j: usize) -> bool {
+        false
+    }
+
     /// Whether robot `j` represents a visible point from `i`: `j` is seen, and no seen
     /// robot with a smaller index lies within `eps_pos` of it (co-located robots are one
     /// point, represented by the lowest index).
     fn is_visible_point(&self, i: usize, j: usize) -> bool {
         if !self.sees(i, j) {
             return false;
+        }
+        if self.alone(j) {
+            return true;
         }
         let mut shadowed = false;
         let eps = self.vision().eps_pos;

@@ -35,6 +35,9 @@ pub struct IndexedSight<P: IndexPoint> {
     grid: OnceLock<Box<SegmentGrid>>,
     /// The robots whose positions differ from those `grid` was built over.
     stale: Stale,
+    /// In the plane, a bit per robot: whether no other robot was within `eps_pos` of it
+    /// where `grid` was built (`None`: not decided by the grid), built on first use.
+    isolated: OnceLock<Option<Vec<u64>>>,
     /// Hull vertices (plane), for farthest-robot questions (built on first use).
     hull: OnceLock<Vec<P>>,
     vision: VisionParams,
@@ -50,6 +53,7 @@ impl<P: IndexPoint> IndexedSight<P> {
             positions,
             tree: OnceLock::new(),
             grid: OnceLock::new(),
+            isolated: OnceLock::new(),
             hull: OnceLock::new(),
             vision,
             bounds,
@@ -84,6 +88,10 @@ impl<P: IndexPoint> IndexedSight<P> {
         }
         next.stale = stale;
         next.grid = OnceLock::from(grid);
+        // Still true of the robots that did not move, among themselves.
+        if previous.vision == vision {
+            next.isolated = previous.isolated;
+        }
         next
     }
 
@@ -95,6 +103,15 @@ impl<P: IndexPoint> IndexedSight<P> {
     fn grid(&self) -> &SegmentGrid {
         self.grid
             .get_or_init(|| Box::new(SegmentGrid::new(&self.positions)))
+    }
+
+    /// Whether no robot other than `k` was within `eps_pos` of it where the grid was
+    /// built.
+    fn was_isolated(&self, k: usize) -> bool {
+        self.isolated
+            .get_or_init(|| self.grid().isolated(self.vision.eps_pos))
+            .as_ref()
+            .is_some_and(|bits| bits[k / 64] >> (k % 64) & 1 == 1)
     }
 
     fn tree(&self) -> &RTree<GeomWithData<P::Array, u32>> {
@@ -239,6 +256,17 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
                 f(k);
             }
         }
+    }
+
+    fn alone(&self, j: usize) -> bool {
+        if P::DIM != 2 || self.stale.contains(j) || !self.was_isolated(j) {
+            return false;
+        }
+        // Robots that did not move are where they were; the others are tested here.
+        let (p, eps) = (self.positions[j], self.vision.eps_pos);
+        self.stale
+            .iter()
+            .all(|k| k == j || (self.positions[k] - p).length() > eps)
     }
 
     fn neighbours(&self, i: usize) -> Vec<usize> {

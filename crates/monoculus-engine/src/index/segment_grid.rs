@@ -27,6 +27,10 @@ use super::{IndexPoint, Tube};
 const BAND: f64 = 2.0;
 const CELL: f64 = 1.0;
 
+/// Robots tested at once by the line filter of [`SegmentGrid::blocked`] (a chunk may
+/// run past a slice into the next robots: a false alarm, never a miss).
+const LANES: usize = 8;
+
 /// The slot of width `1 / inv` starting at `origin` that holds `v`, clamped to
 /// `0..count` (truncation equals floor here: negative values clamp to 0).
 #[inline]
@@ -58,6 +62,7 @@ struct Bands {
     /// The positions of `items`, in the same order, as (x, y) relative to the swarm's
     /// lower corner in single precision: half the memory to stream through, for a
     /// filter that widens its tolerance by the rounding (see [`SegmentGrid::blocked`]).
+    /// Followed by [`LANES`] NaN points, so that a filter may read whole chunks.
     coords: Vec<[f32; 2]>,
 }
 
@@ -78,7 +83,8 @@ impl Bands {
             bands,
             start: vec![0; cells * bands + 1],
             items: vec![0; points.len()],
-            coords: vec![[0.0; 2]; points.len()],
+            // Padded (see [`LANES`]) with points that pass no filter.
+            coords: vec![[f32::NAN; 2]; points.len() + LANES],
         };
         let slot: Vec<u32> = points
             .iter()
@@ -191,6 +197,12 @@ impl SegmentGrid {
             .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);
+        Self::with_spacing(points, spacing, lo, hi)
+    }
+
+    /// A grid over `points` in the box `[lo, hi]` (theirs) with cells `spacing` wide.
+    fn with_spacing<P: Point>(points: &[P], spacing: f64, lo: [f64; 2], hi: [f64; 2]) -> Self {
+        let longest = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         SegmentGrid {
             rows: Bands::new(points, 0, lo, hi, spacing),
             columns: Bands::new(points, 1, lo, hi, spacing),
@@ -225,6 +237,41 @@ impl SegmentGrid {
                 f(g.items[s] as usize);
             }
         }
+    }
+
+    /// A bit per robot (bit `k % 64` of word `k / 64`), set if certainly no other robot
+    /// lies within `radius` of robot `k`: only the robots of the 3 x 3 cells around it
+    /// can, tested on stored coordinates with room for their rounding. `None` if
+    /// `radius` is not well below a cell's size (or coordinates are not finite in
+    /// single precision). O(n), cell by cell.
+    pub fn isolated(&self, radius: f64) -> Option<Vec<u64>> {
+        let g = &self.rows;
+        // Two stored coordinates are each off by at most `rounding` plus the double
+        // rounding of the shift to the swarm's corner; twice that leaves room.
+        let extent = self.lo[0].abs() + self.lo[1].abs() + self.hi[0].abs() + self.hi[1].abs();
+        let reach = radius + 4.0 * self.rounding + 16.0 * f64::EPSILON * extent;
+        if !self.single || reach.is_nan() || reach >= 0.25 * self.spacing * CELL.min(BAND) {
+            return None;
+        }
+        let mut bits = vec![0u64; g.items.len().div_ceil(64)];
+        for r in 0..g.bands {
+            let (r0, r1) = (r.saturating_sub(1), (r + 1).min(g.bands - 1));
+            for c in 0..g.cells {
+                let (c0, c1) = (c.saturating_sub(1), (c + 1).min(g.cells - 1));
+                for s in g.cells_range(r, c, c) {
+                    let [x, y] = g.coords[s].map(f64::from);
+                    let apart = |t: usize| {
+                        let [u, v] = g.coords[t].map(f64::from);
+                        t == s || (u - x).abs() > reach || (v - y).abs() > reach
+                    };
+                    if (r0..=r1).all(|rr| g.cells_range(rr, c0, c1).all(apart)) {
+                        let k = g.items[s] as usize;
+                        bits[k / 64] |= 1 << (k % 64);
+                    }
+                }
+            }
+        }
+        Some(bits)
     }
 
     /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
@@ -313,6 +360,35 @@ impl SegmentGrid {
         j: usize,
         v: &VisionParams,
     ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above), all `blocked_avx2` needs.
+            #[allow(
+                unsafe_code,
+                reason = "calling code compiled for a detected CPU feature"
+            )]
+            return unsafe { self.blocked_avx2(positions, i, j, v) };
+        }
+        self.walk(positions, i, j, v)
+    }
+
+    /// [`Self::walk`] compiled for AVX2: the line filter tests eight robots per
+    /// instruction instead of four (measured: see the README's Performance section).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn blocked_avx2<P: IndexPoint>(
+        &self,
+        positions: &[P],
+        i: usize,
+        j: usize,
+        v: &VisionParams,
+    ) -> bool {
+        self.walk(positions, i, j, v)
+    }
+
+    /// The body of [`Self::blocked`].
+    #[inline(always)]
+    fn walk<P: IndexPoint>(&self, positions: &[P], i: usize, j: usize, v: &VisionParams) -> bool {
         let (p, q) = (positions[i], positions[j]);
         let tube = Tube::new(p, q, v.eps_ang);
         // Every blocker lies within `tol` of the segment (the blocking cone and room for
@@ -358,6 +434,7 @@ impl SegmentGrid {
         let inv_slope = da / db;
         // Cheap filter: within twice the tube's radius of the line, strictly between p
         // and q (widened by the rounding of stored coordinates).
+        let extent = self.hi[0] - self.lo[0] + self.hi[1] - self.lo[1];
         let filter = Filter {
             origin: [rpx, rpy],
             d: [dx, dy],
@@ -365,6 +442,7 @@ impl SegmentGrid {
             along_max,
             band,
             single: self.single,
+            line: Line::new([rpx, rpy], [dx, dy], len, tol + 2.0 * err, extent),
         };
         let near = |c: &[f32; 2]| filter.near(c);
         // Bands are taken a batch at a time: first where the line crosses each, then
@@ -406,7 +484,7 @@ impl SegmentGrid {
             }
             for &(s0, s1) in &slices[..m] {
                 // Candidates are rare: one branch-free pass over the slice first.
-                if !filter.any(&g.coords[s0..s1]) {
+                if !filter.line.any(&g.coords, s0, s1) {
                     continue;
                 }
                 for s in s0..s1 {
@@ -500,6 +578,7 @@ struct Filter {
     along_max: f64,
     band: f64,
     single: bool,
+    line: Line,
 }
 
 impl Filter {
@@ -513,13 +592,69 @@ impl Filter {
                 & (along < self.along_max)
                 & ((rx * dy - ry * dx).abs() <= self.band))
     }
+}
 
-    /// Whether some robot of `coords` passes: one branch-free pass. (Compiling it for
-    /// AVX2, dispatched at run time, was measured: no gain, the walk's time is in the
-    /// per-band bookkeeping and memory.)
+/// The first test of [`SegmentGrid::blocked`]: whether a stored point lies within `w`
+/// of the line of sight, in single precision, in chunks of [`LANES`] robots (four times
+/// the robots per instruction of the double-precision [`Filter`]).
+///
+/// The point at distance `d` from the line gives `|n . s - c| <= d` for the exact unit
+/// normal `n` and offset `c`. Rounding `n` and `c` to single precision moves that by at
+/// most `u (|s_x| + |s_y| + |c|)` (u = 2^-24, stored coordinates are relative to the
+/// swarm's corner so `|s| <= extent`), and evaluating it in single precision by at
+/// most `3 u (|s_x| + |s_y| + |c|)` more (fused or not). A blocker lies within `tol`
+/// of the segment, its stored point within `tol + 2 err` of the line; `w` adds
+/// `8 u (extent + |c| + 1 ulp)` to that.
+struct Line {
+    n: [f32; 2],
+    c: f32,
+    w: f32,
+    /// Whether the bound holds (finite, not degenerate); else every robot passes.
+    sound: bool,
+}
+
+impl Line {
+    /// The line through `origin` along `d` of length `len`; `w` bounds the distance of
+    /// a stored blocker to it; `extent` bounds |s_x| + |s_y| for stored points.
+    fn new(origin: [f64; 2], d: [f64; 2], len: f64, w: f64, extent: f64) -> Self {
+        let n = [d[1] / len, -d[0] / len];
+        let c = n[0] * origin[0] + n[1] * origin[1];
+        let u = 2f64.powi(-24);
+        // `n` is a unit vector up to a few ulps of double precision, covered by the
+        // factor on `w`.
+        let w = (w * (1.0 + 1e-12) + 8.0 * u * (extent + c.abs()) * (1.0 + 1e-6)) * (1.0 + 2.0 * u);
+        let sound = len > 0.0 && (extent + c.abs() + w).is_finite() && extent < 1e30 && w < 1e30;
+        Line {
+            n: [n[0] as f32, n[1] as f32],
+            c: c as f32,
+            w: w as f32,
+            sound,
+        }
+    }
+
+    /// Whether some point of `coords[s0..s1]` may lie within `w` of the line. Reads
+    /// whole chunks of [`LANES`] (the padding), so may raise a false alarm.
     #[inline(always)]
-    fn any(&self, coords: &[[f32; 2]]) -> bool {
-        coords.iter().fold(false, |any, c| any | self.near(c))
+    fn any(&self, coords: &[[f32; 2]], s0: usize, s1: usize) -> bool {
+        if !self.sound {
+            return s0 < s1;
+        }
+        let ([nx, ny], c, w) = (self.n, self.c, self.w);
+        let mut s = s0;
+        while s < s1 {
+            let Some(chunk) = coords.get(s..s + LANES) else {
+                return true;
+            };
+            let mut hit = false;
+            for &[x, y] in chunk {
+                hit |= (nx * x + ny * y - c).abs() <= w;
+            }
+            if hit {
+                return true;
+            }
+            s += LANES;
+        }
+        false
     }
 }
 
@@ -699,5 +834,93 @@ mod tests {
             blocked > 1000,
             "only {blocked} of {checked} placements block"
         );
+    }
+    /// Robots with company within the radius (pairs at and around the radius, some
+    /// across cell edges and corners, far from the origin) are never marked isolated;
+    /// lone robots are.
+    #[test]
+    fn isolated_robots_have_nobody_within_the_radius() {
+        let mut rng = Stream::new(5, 0, 0, 0);
+        let offset = DVec2::new(-4.0e4, 7.0e3);
+        let radius = 1e-6;
+        // The first two robots pin the box, so adding robots inside keeps the cells.
+        let mut pts = vec![offset, offset + DVec2::splat(40.0)];
+        pts.extend((0..2000).map(|_| offset + DVec2::new(rng.uniform(), rng.uniform()) * 40.0));
+        let first = SegmentGrid::new(&pts);
+        let g = &first.rows;
+        for k in 0..600 {
+            let angle = rng.uniform() * std::f64::consts::TAU;
+            let at = [0.0, 0.5, 0.999_999, 1.0, 1.000_001, 3.0][k % 6] * radius;
+            let dir = DVec2::new(angle.cos(), angle.sin()) * at;
+            if k % 3 == 2 {
+                // Beside a robot.
+                pts.push(pts[2 + rng.below(2000)] + dir);
+            } else {
+                // Either side of a cell corner.
+                let (x, y) = g.corner(1 + rng.below(g.cells - 2), 1 + rng.below(g.bands - 2));
+                let corner = DVec2::new(x, y);
+                pts.extend([corner + dir * 0.5, corner - dir * 0.5]);
+            }
+        }
+        // The same cells as `first`.
+        let grid = SegmentGrid::with_spacing(&pts, first.spacing, first.lo, first.hi);
+        let bits = grid
+            .isolated(radius)
+            .expect("a radius well below the cells");
+        let (mut lone, mut missed) = (0, 0);
+        for (k, &p) in pts.iter().enumerate() {
+            let alone = pts
+                .iter()
+                .enumerate()
+                .all(|(t, &q)| t == k || (q - p).length() > radius);
+            let marked = bits[k / 64] >> (k % 64) & 1 == 1;
+            assert!(!marked || alone, "robot {k} at {p} has company");
+            // Beyond the room left for rounding (about 1e-5 here), robots are marked.
+            let remote = pts
+                .iter()
+                .enumerate()
+                .all(|(t, &q)| t == k || (q - p).length() > 1e-4);
+            lone += usize::from(remote);
+            missed += usize::from(remote && !marked);
+        }
+        assert!(
+            lone > 1700 && missed == 0,
+            "{missed} of {lone} lone robots not marked"
+        );
+        assert!(grid.isolated(grid.cell_size()).is_none());
+    }
+
+    /// Blockers inside the cone, a few hundred units from the swarm's corner and far
+    /// from the origin: the cone is a million times thinner than the rounding of the
+    /// stored single-precision coordinates, which the line filter must allow for.
+    #[test]
+    fn the_single_precision_filter_keeps_blockers_it_cannot_resolve() {
+        let v = VisionParams::default();
+        let mut rng = Stream::new(11, 0, 0, 0);
+        let offset = DVec2::new(1.0e5, -3.0e4);
+        let mut pts: Vec<DVec2> = (0..3000)
+            .map(|_| offset + DVec2::new(rng.uniform() * 1000.0, rng.uniform() * 1000.0))
+            .collect();
+        let (i, j, k) = (0, 1, 2);
+        let mut blocked = 0;
+        for _ in 0..400 {
+            let (p, q) = (pts[i], pts[j]);
+            let (d, t) = (q - p, rng.uniform_in(0.05, 0.95));
+            let normal = DVec2::new(-d.y, d.x).normalize();
+            // Within the cone, or just outside it.
+            let frac = rng.uniform_in(-1.2, 1.2);
+            pts[k] = p + d * t + normal * (frac * v.eps_ang * t * d.length());
+            let expect = brute(&pts, i, j, &v);
+            assert_eq!(
+                SegmentGrid::new(&pts).blocked(&pts, i, j, &v),
+                expect,
+                "{p} -> {q}, blocker {} ({frac})",
+                pts[k]
+            );
+            blocked += usize::from(expect);
+            pts[i] = offset + DVec2::new(rng.uniform() * 1000.0, rng.uniform() * 1000.0);
+            pts[j] = offset + DVec2::new(rng.uniform() * 1000.0, rng.uniform() * 1000.0);
+        }
+        assert!(blocked > 200, "only {blocked} of 400 placements block");
     }
 }
