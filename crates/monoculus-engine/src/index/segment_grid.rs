@@ -32,15 +32,37 @@ const CELL: f64 = 1.0;
 const LANES: usize = 8;
 
 /// The slot of width `1 / inv` starting at `origin` that holds `v`, clamped to
-/// `0..count` (truncation equals floor here: negative values clamp to 0).
+/// `0..=last` (truncation equals floor here: negative values and NaN give 0). Signed
+/// conversion of a clamped value: a third of the instructions of `as usize`.
 #[inline]
-fn slot(v: f64, origin: f64, inv: f64, count: usize) -> usize {
+fn slot(v: f64, origin: f64, inv: f64, last: f64) -> usize {
     let k = (v - origin) * inv;
-    if k <= 0.0 {
-        0
+    if k > 0.0 {
+        (if k < last { k } else { last }) as i64 as usize
     } else {
-        (k as usize).min(count - 1)
+        0
     }
+}
+
+/// `b` if it is above `a`, else `a`: a bound only ever narrowed, never by a NaN (and
+/// cheaper than `f64::max`, which must pick the number out of a NaN either side).
+#[inline(always)]
+fn raise(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
+/// `b` if it is below `a`, else `a` (see [`raise`]).
+#[inline(always)]
+fn lower(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
+/// `i` as a float, for grid indices (at most a few times the number of robots, far
+/// below 2^32): a cheaper conversion than from `usize`.
+#[inline]
+fn float(i: usize) -> f64 {
+    debug_assert!(i <= u32::MAX as usize);
+    f64::from(i as u32)
 }
 
 /// Robots bucketed in bands across one axis, each band cut into cells along the other
@@ -57,6 +79,8 @@ struct Bands {
     inv_height: f64,
     cells: usize,
     bands: usize,
+    /// The last cell and band, as floats.
+    last: [f64; 2],
     start: Vec<u32>,
     items: Vec<u32>,
     /// The positions of `items`, in the same order, as (x, y) relative to the swarm's
@@ -81,8 +105,10 @@ impl Bands {
             inv_height: 1.0 / height,
             cells,
             bands,
+            last: [(cells - 1) as f64, (bands - 1) as f64],
             start: vec![0; cells * bands + 1],
-            items: vec![0; points.len()],
+            // Padded like `coords`, with no robot.
+            items: vec![u32::MAX; points.len() + LANES],
             // Padded (see [`LANES`]) with points that pass no filter.
             coords: vec![[f32::NAN; 2]; points.len() + LANES],
         };
@@ -115,13 +141,13 @@ impl Bands {
     /// The cell (along the run axis) of coordinate `v`, clamped to the grid.
     #[inline]
     fn cell(&self, v: f64) -> usize {
-        slot(v, self.origin[0], self.inv_width, self.cells)
+        slot(v, self.origin[0], self.inv_width, self.last[0])
     }
 
     /// The band of coordinate `v` across the run axis, clamped to the grid.
     #[inline]
     fn band(&self, v: f64) -> usize {
-        slot(v, self.origin[1], self.inv_height, self.bands)
+        slot(v, self.origin[1], self.inv_height, self.last[1])
     }
 
     /// The robots of band `r` in cells `c0..=c1`: indices into `items` and `coords`.
@@ -253,7 +279,7 @@ impl SegmentGrid {
         if !self.single || reach.is_nan() || reach >= 0.25 * self.spacing * CELL.min(BAND) {
             return None;
         }
-        let mut bits = vec![0u64; g.items.len().div_ceil(64)];
+        let mut bits = vec![0u64; (g.items.len() - LANES).div_ceil(64)];
         for r in 0..g.bands {
             let (r0, r1) = (r.saturating_sub(1), (r + 1).min(g.bands - 1));
             for c in 0..g.cells {
@@ -459,12 +485,13 @@ impl SegmentGrid {
                     // Where the line crosses band r, widened by `tol_b` (robots near a
                     // band edge may sit in either band after rounding: `tol` includes
                     // room for it).
-                    let edge0 = g.origin[1] + r as f64 * g.height - tol_b;
-                    let edge1 = g.origin[1] + (r + 1) as f64 * g.height + tol_b;
+                    let edge0 = g.origin[1] + float(r) * g.height - tol_b;
+                    let edge1 = g.origin[1] + float(r + 1) * g.height + tol_b;
                     let (t0, t1) = ((edge0 - pb) * inv_slope, (edge1 - pb) * inv_slope);
                     let room = 64.0 * f64::EPSILON * (scale + t0.abs() + t1.abs());
-                    lo = lo.max(pa + t0.min(t1) - room);
-                    hi = hi.min(pa + t0.max(t1) + room);
+                    let (t_lo, t_hi) = if t1 < t0 { (t1, t0) } else { (t0, t1) };
+                    lo = raise(lo, pa + t_lo - room);
+                    hi = lower(hi, pa + t_hi + room);
                 }
                 if lo <= hi {
                     let row = r * g.cells;
@@ -478,13 +505,15 @@ impl SegmentGrid {
             let mut slices = [(0usize, 0usize); BATCH];
             for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
                 *slice = (g.start[c0] as usize, g.start[c1] as usize);
-                for line in (slice.0..slice.1).step_by(8) {
-                    prefetch(&g.coords[line]);
-                }
+                // A slice is a few robots: its first and last cache lines (the padding
+                // keeps both indices valid; the hardware streams longer slices).
+                prefetch(&g.coords[slice.0]);
+                prefetch(&g.coords[slice.1]);
+                prefetch(&g.items[slice.0]);
             }
             for &(s0, s1) in &slices[..m] {
                 // Candidates are rare: one branch-free pass over the slice first.
-                if !filter.line.any(&g.coords, s0, s1) {
+                if !filter.line.any(&g.coords, &g.items, s0, s1, [i, j]) {
                     continue;
                 }
                 for s in s0..s1 {
@@ -632,22 +661,34 @@ impl Line {
         }
     }
 
-    /// Whether some point of `coords[s0..s1]` may lie within `w` of the line. Reads
-    /// whole chunks of [`LANES`] (the padding), so may raise a false alarm.
+    /// Whether some point of `coords[s0..s1]`, of a robot in `items[s0..s1]` other
+    /// than the two `ends`, may lie within `w` of the line. Reads whole chunks of
+    /// [`LANES`] (the padding), so may raise a false alarm.
     #[inline(always)]
-    fn any(&self, coords: &[[f32; 2]], s0: usize, s1: usize) -> bool {
+    fn any(
+        &self,
+        coords: &[[f32; 2]],
+        items: &[u32],
+        s0: usize,
+        s1: usize,
+        ends: [usize; 2],
+    ) -> bool {
         if !self.sound {
             return s0 < s1;
         }
         let ([nx, ny], c, w) = (self.n, self.c, self.w);
+        // The ends lie on the line: leaving them out spares the exact pass over the
+        // first and last slices.
+        let [i, j] = ends.map(|e| e as u32);
         let mut s = s0;
         while s < s1 {
-            let Some(chunk) = coords.get(s..s + LANES) else {
+            let (Some(chunk), Some(ids)) = (coords.get(s..s + LANES), items.get(s..s + LANES))
+            else {
                 return true;
             };
             let mut hit = false;
-            for &[x, y] in chunk {
-                hit |= (nx * x + ny * y - c).abs() <= w;
+            for (&[x, y], &k) in chunk.iter().zip(ids) {
+                hit |= ((nx * x + ny * y - c).abs() <= w) & (k != i) & (k != j);
             }
             if hit {
                 return true;
