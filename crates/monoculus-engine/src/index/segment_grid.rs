@@ -83,6 +83,8 @@ struct Bands {
     last: [f64; 2],
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Where each robot is in `items`: `items[place[k]] == k`.
+    place: Vec<u32>,
     /// The positions of `items`, in the same order, as (x, y) relative to the swarm's
     /// lower corner in single precision: half the memory to stream through, for a
     /// filter that widens its tolerance by the rounding (see [`SegmentGrid::blocked`]).
@@ -109,6 +111,7 @@ impl Bands {
             start: vec![0; cells * bands + 1],
             // Padded like `coords`, with no robot.
             items: vec![u32::MAX; points.len() + LANES],
+            place: vec![0; points.len()],
             // Padded (see [`LANES`]) with points that pass no filter.
             coords: vec![[f32::NAN; 2]; points.len() + LANES],
         };
@@ -129,6 +132,7 @@ impl Bands {
         for (i, &k) in slot.iter().enumerate() {
             let at = fill[k as usize] as usize;
             grid.items[at] = i as u32;
+            grid.place[i] = at as u32;
             grid.coords[at] = [
                 (points[i].axis(0) - lo[0]) as f32,
                 (points[i].axis(1) - lo[1]) as f32,
@@ -471,6 +475,10 @@ impl SegmentGrid {
             line: Line::new([rpx, rpy], [dx, dy], len, tol + 2.0 * err, extent),
         };
         let near = |c: &[f32; 2]| filter.near(c);
+        // The ends lie on the line: the line filter leaves out their places in the
+        // layout (for a robot that moved since, its old place), sparing an exact pass
+        // over the first and last slices without reading which robot each place holds.
+        let ends = [g.place[i], g.place[j]];
         // Bands are taken a batch at a time: first where the line crosses each, then
         // its slice's bounds, then its robots, each step prefetching what the next one
         // reads, so that the cache misses of a batch overlap instead of adding up.
@@ -509,11 +517,10 @@ impl SegmentGrid {
                 // keeps both indices valid; the hardware streams longer slices).
                 prefetch(&g.coords[slice.0]);
                 prefetch(&g.coords[slice.1]);
-                prefetch(&g.items[slice.0]);
             }
             for &(s0, s1) in &slices[..m] {
                 // Candidates are rare: one branch-free pass over the slice first.
-                if !filter.line.any(&g.coords, &g.items, s0, s1, [i, j]) {
+                if !filter.line.any(&g.coords, s0, s1, ends) {
                     continue;
                 }
                 for s in s0..s1 {
@@ -661,34 +668,24 @@ impl Line {
         }
     }
 
-    /// Whether some point of `coords[s0..s1]`, of a robot in `items[s0..s1]` other
-    /// than the two `ends`, may lie within `w` of the line. Reads whole chunks of
+    /// Whether some point of `coords[s0..s1]` other than those at the two `ends` (the
+    /// places of the observer and the observed in the layout, if found there) may lie
+    /// within `w` of the line. Reads whole chunks of
     /// [`LANES`] (the padding), so may raise a false alarm.
     #[inline(always)]
-    fn any(
-        &self,
-        coords: &[[f32; 2]],
-        items: &[u32],
-        s0: usize,
-        s1: usize,
-        ends: [usize; 2],
-    ) -> bool {
+    fn any(&self, coords: &[[f32; 2]], s0: usize, s1: usize, ends: [u32; 2]) -> bool {
         if !self.sound {
             return s0 < s1;
         }
         let ([nx, ny], c, w) = (self.n, self.c, self.w);
-        // The ends lie on the line: leaving them out spares the exact pass over the
-        // first and last slices.
-        let [i, j] = ends.map(|e| e as u32);
         let mut s = s0;
         while s < s1 {
-            let (Some(chunk), Some(ids)) = (coords.get(s..s + LANES), items.get(s..s + LANES))
-            else {
+            let Some(chunk) = coords.get(s..s + LANES) else {
                 return true;
             };
             let mut hit = false;
-            for (&[x, y], &k) in chunk.iter().zip(ids) {
-                hit |= ((nx * x + ny * y - c).abs() <= w) & (k != i) & (k != j);
+            for (at, &[x, y]) in (s as u32..).zip(chunk) {
+                hit |= ((nx * x + ny * y - c).abs() <= w) & (at != ends[0]) & (at != ends[1]);
             }
             if hit {
                 return true;
