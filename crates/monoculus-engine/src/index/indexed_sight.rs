@@ -3,6 +3,7 @@
 
 use std::any::Any;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU8, Ordering};
 
 use glam::DVec2;
 use monoculus_core::metrics::bounds;
@@ -35,9 +36,10 @@ pub struct IndexedSight<P: IndexPoint> {
     grid: OnceLock<Box<SegmentGrid>>,
     /// The robots whose positions differ from those `grid` was built over.
     stale: Stale,
-    /// In the plane, a bit per robot: whether no other robot was within `eps_pos` of it
-    /// where `grid` was built (`None`: not decided by the grid), built on first use.
-    isolated: OnceLock<Option<Vec<u64>>>,
+    /// In the plane, per robot, whether no other robot was within `eps_pos` of it
+    /// where `grid` was built: 0 not asked yet, 1 yes, 2 no or unsure. Filled in as
+    /// asked, by any thread (the answer does not depend on who asks).
+    isolated: OnceLock<Box<[AtomicU8]>>,
     /// Hull vertices (plane), for farthest-robot questions (built on first use).
     hull: OnceLock<Vec<P>>,
     vision: VisionParams,
@@ -108,10 +110,19 @@ impl<P: IndexPoint> IndexedSight<P> {
     /// Whether no robot other than `k` was within `eps_pos` of it where the grid was
     /// built.
     fn was_isolated(&self, k: usize) -> bool {
-        self.isolated
-            .get_or_init(|| self.grid().isolated(self.vision.eps_pos))
-            .as_ref()
-            .is_some_and(|bits| bits[k / 64] >> (k % 64) & 1 == 1)
+        let known = self.isolated.get_or_init(|| {
+            std::iter::repeat_with(|| AtomicU8::new(0))
+                .take(self.positions.len())
+                .collect()
+        });
+        match known[k].load(Ordering::Relaxed) {
+            0 => {
+                let yes = self.grid().isolated(k, self.vision.eps_pos);
+                known[k].store(if yes { 1 } else { 2 }, Ordering::Relaxed);
+                yes
+            }
+            state => state == 1,
+        }
     }
 
     fn tree(&self) -> &RTree<GeomWithData<P::Array, u32>> {

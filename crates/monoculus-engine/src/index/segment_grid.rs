@@ -269,39 +269,29 @@ impl SegmentGrid {
         }
     }
 
-    /// A bit per robot (bit `k % 64` of word `k / 64`), set if certainly no other robot
-    /// lies within `radius` of robot `k`: only the robots of the 3 x 3 cells around it
-    /// can, tested on stored coordinates with room for their rounding. `None` if
-    /// `radius` is not well below a cell's size (or coordinates are not finite in
-    /// single precision). O(n), cell by cell.
-    pub fn isolated(&self, radius: f64) -> Option<Vec<u64>> {
+    /// Whether certainly no other robot lies within `radius` of robot `k`, where the
+    /// grid was built: the robots of the cells near its stored point, tested on stored
+    /// coordinates with room for their rounding. `false` when unsure (a radius not
+    /// below a cell's size, coordinates not finite in single precision).
+    pub fn isolated(&self, k: usize, radius: f64) -> bool {
         let g = &self.rows;
         // Two stored coordinates are each off by at most `rounding` plus the double
-        // rounding of the shift to the swarm's corner; twice that leaves room.
+        // rounding of the shift to the swarm's corner, and so is the point rebuilt
+        // from them; twice that leaves room.
         let extent = self.lo[0].abs() + self.lo[1].abs() + self.hi[0].abs() + self.hi[1].abs();
         let reach = radius + 4.0 * self.rounding + 16.0 * f64::EPSILON * extent;
-        if !self.single || reach.is_nan() || reach >= 0.25 * self.spacing * CELL.min(BAND) {
-            return None;
+        if !self.single || reach.is_nan() || reach >= self.spacing {
+            return false;
         }
-        let mut bits = vec![0u64; (g.items.len() - LANES).div_ceil(64)];
-        for r in 0..g.bands {
-            let (r0, r1) = (r.saturating_sub(1), (r + 1).min(g.bands - 1));
-            for c in 0..g.cells {
-                let (c0, c1) = (c.saturating_sub(1), (c + 1).min(g.cells - 1));
-                for s in g.cells_range(r, c, c) {
-                    let [x, y] = g.coords[s].map(f64::from);
-                    let apart = |t: usize| {
-                        let [u, v] = g.coords[t].map(f64::from);
-                        t == s || (u - x).abs() > reach || (v - y).abs() > reach
-                    };
-                    if (r0..=r1).all(|rr| g.cells_range(rr, c0, c1).all(apart)) {
-                        let k = g.items[s] as usize;
-                        bits[k / 64] |= 1 << (k % 64);
-                    }
-                }
-            }
-        }
-        Some(bits)
+        let s = g.place[k] as usize;
+        let [x, y] = g.coords[s].map(f64::from);
+        let (ax, ay) = (x + self.lo[0], y + self.lo[1]);
+        (g.band(ay - reach)..=g.band(ay + reach)).all(|r| {
+            g.slice(r, ax - reach, ax + reach).all(|t| {
+                let [u, v] = g.coords[t].map(f64::from);
+                t == s || (u - x).abs() > reach || (v - y).abs() > reach
+            })
+        })
     }
 
     /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
@@ -902,16 +892,13 @@ mod tests {
         }
         // The same cells as `first`.
         let grid = SegmentGrid::with_spacing(&pts, first.spacing, first.lo, first.hi);
-        let bits = grid
-            .isolated(radius)
-            .expect("a radius well below the cells");
         let (mut lone, mut missed) = (0, 0);
         for (k, &p) in pts.iter().enumerate() {
             let alone = pts
                 .iter()
                 .enumerate()
                 .all(|(t, &q)| t == k || (q - p).length() > radius);
-            let marked = bits[k / 64] >> (k % 64) & 1 == 1;
+            let marked = grid.isolated(k, radius);
             assert!(!marked || alone, "robot {k} at {p} has company");
             // Beyond the room left for rounding (about 1e-5 here), robots are marked.
             let remote = pts
@@ -925,7 +912,7 @@ mod tests {
             lone > 1700 && missed == 0,
             "{missed} of {lone} lone robots not marked"
         );
-        assert!(grid.isolated(grid.cell_size()).is_none());
+        assert!(!grid.isolated(0, grid.cell_size()));
     }
 
     /// Blockers inside the cone, a few hundred units from the swarm's corner and far
