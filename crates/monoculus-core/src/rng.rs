@@ -84,17 +84,22 @@ impl Stream {
     }
 
     /// Uniform integer in `0..n` (`n > 0`), by Lemire's multiply-shift with rejection,
-    /// so exactly uniform.
+    /// so exactly uniform: a draw whose low word is below `2^64 mod n` is rejected.
+    /// That bound is below `n`, so it is computed (a 64-bit division, the main cost of
+    /// a draw) only for the rare draws whose low word is below `n`; the draws kept are
+    /// the same either way.
+    #[inline]
     pub fn below(&mut self, n: usize) -> usize {
         debug_assert!(n > 0);
         let n = n as u64;
-        let threshold = n.wrapping_neg() % n;
-        loop {
-            let m = (self.next_u64() as u128) * (n as u128);
-            if (m as u64) >= threshold {
-                return (m >> 64) as usize;
+        let mut m = (self.next_u64() as u128) * (n as u128);
+        if (m as u64) < n {
+            let threshold = n.wrapping_neg() % n;
+            while (m as u64) < threshold {
+                m = (self.next_u64() as u128) * (n as u128);
             }
         }
+        (m >> 64) as usize
     }
 
     /// A standard normal deviate (Box-Muller).
@@ -150,6 +155,42 @@ mod tests {
         }
         for c in counts {
             assert!((9_400..10_600).contains(&c), "{counts:?}");
+        }
+    }
+
+    /// `below` computes the rejection bound only when a draw could fall under it: the
+    /// draws are those of the plain method (bound computed every time), also for sizes
+    /// near 2^64 where about half the draws are rejected.
+    #[test]
+    fn below_draws_as_the_plain_method() {
+        fn plain(s: &mut Stream, n: u64) -> u64 {
+            let threshold = n.wrapping_neg() % n;
+            loop {
+                let m = (s.next_u64() as u128) * (n as u128);
+                if (m as u64) >= threshold {
+                    return (m >> 64) as u64;
+                }
+            }
+        }
+        let sizes = [
+            1,
+            2,
+            3,
+            7,
+            100_000,
+            1 << 40,
+            (1 << 63) + 1,
+            u64::MAX - 1,
+            u64::MAX,
+        ];
+        for (t, &n) in sizes.iter().enumerate() {
+            let (mut a, mut b) = (
+                Stream::new(3, 1, t as u64, 0),
+                Stream::new(3, 1, t as u64, 0),
+            );
+            for _ in 0..20_000 {
+                assert_eq!(a.below(n as usize) as u64, plain(&mut b, n), "n = {n}");
+            }
         }
     }
 

@@ -326,48 +326,55 @@ fn certainly_stays_only_for_robots_that_stay() {
     assert!(vouched > 50, "only {vouched} robots vouched for");
 }
 
-/// `target = "random_rejection"`: where the 32 uniform draws mostly miss (600 near
-/// robots, six far ones), the redraws among the far robots decide, and the choice is
-/// still uniform over the visible far points: never the hidden one, the co-located pair
-/// counted once.
+/// `target = "random_rejection"`: six far robots, one hidden, two co-located, among
+/// many near ones. With 600 near robots the 32 uniform draws mostly miss and the 256
+/// extra uniform draws decide (they miss all with probability 6%); with 10,000 they
+/// miss all with probability 84%, and the redraws among the far robots decide. Either
+/// way the choice is uniform over the visible far points: never the hidden one, the
+/// co-located pair counted once.
 #[test]
 fn rejection_redraws_are_uniform_over_visible_far_points() {
     use monoculus_core::algorithms::TargetPolicy;
-    let mut pts = vec![(0.0, 0.0)];
-    // Near robots on a small circle (all within c = 2).
-    pts.extend((0..600).map(|k| {
-        let a = k as f64 * std::f64::consts::TAU / 600.0 + 0.001;
-        (0.5 * a.cos(), 0.5 * a.sin())
-    }));
-    // Far: (6,0) hidden behind (3,0); (0,6) twice; (-6,0); (0,-6).
-    pts.extend([
-        (3.0, 0.0),
-        (6.0, 0.0),
-        (0.0, 6.0),
-        (0.0, 6.0),
-        (-6.0, 0.0),
-        (0.0, -6.0),
-    ]);
-    // The near circle hides nothing: its robots lie off the four axes.
-    let s = sight(&pts);
-    let mut p = params(AlgorithmKind::ConvergeLocality);
-    p.target = TargetPolicy::RandomRejection;
-    let trials = 4000;
-    let ms: Vec<DVec2> = (0..trials)
-        .map(|t| {
-            let mut stream = Stream::new(13, 2, 0, t);
-            activate(&p, &s, 0, None, &mut stream).unwrap()
-        })
-        .collect();
-    // (3,0) is far too (distance 3): four visible far points. Choosing the hidden (6,0)
-    // would show as too many moves along +x.
-    for target in [
-        DVec2::new(1.0, 0.0),
-        DVec2::new(0.0, 1.0),
-        DVec2::new(-1.0, 0.0),
-        DVec2::new(0.0, -1.0),
-    ] {
-        let k = ms.iter().filter(|&&m| close(m, target)).count();
-        assert!((850..1150).contains(&k), "{target}: {k} of {trials}");
+    for near in [600, 10_000] {
+        let mut pts = vec![(0.0, 0.0)];
+        // Near robots on a small circle (all within c = 2).
+        pts.extend((0..near).map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / near as f64 + 0.1 / near as f64;
+            (0.5 * a.cos(), 0.5 * a.sin())
+        }));
+        // Far: (6,0) hidden behind (3,0); (0,6) twice; (-6,0); (0,-6).
+        pts.extend([
+            (3.0, 0.0),
+            (6.0, 0.0),
+            (0.0, 6.0),
+            (0.0, 6.0),
+            (-6.0, 0.0),
+            (0.0, -6.0),
+        ]);
+        // The near circle hides nothing: its robots lie off the four axes.
+        let s = sight(&pts);
+        let mut p = params(AlgorithmKind::ConvergeLocality);
+        p.target = TargetPolicy::RandomRejection;
+        let trials = 4000;
+        let ms: Vec<DVec2> = (0..trials)
+            .map(|t| {
+                let mut stream = Stream::new(13, 2, 0, t);
+                activate(&p, &s, 0, None, &mut stream).unwrap()
+            })
+            .collect();
+        // (3,0) is far too (distance 3): four visible far points. Choosing the hidden
+        // (6,0) would show as too many moves along +x.
+        for target in [
+            DVec2::new(1.0, 0.0),
+            DVec2::new(0.0, 1.0),
+            DVec2::new(-1.0, 0.0),
+            DVec2::new(0.0, -1.0),
+        ] {
+            let k = ms.iter().filter(|&&m| close(m, target)).count();
+            assert!(
+                (850..1150).contains(&k),
+                "{near} near: {target}: {k} of {trials}"
+            );
+        }
     }
 }

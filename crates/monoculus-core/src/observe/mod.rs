@@ -42,6 +42,15 @@ pub(crate) struct Candidates<'a> {
 /// How many uniform draws the target sampler makes before it lists every eligible point.
 pub const REJECTION_DRAWS: usize = 32;
 
+/// [`TargetPolicy::RandomRejection`]: how many more uniform draws over the whole swarm
+/// follow the first [`REJECTION_DRAWS`] before the candidates are listed. A draw that
+/// lands on an ineligible robot costs one distance test, listing the candidates one
+/// test per robot beyond c and more: where a few percent of the swarm is far (late
+/// ConvergeLocality rounds), these draws find one at a fraction of the cost.
+///
+/// [`TargetPolicy::RandomRejection`]: crate::algorithms::TargetPolicy::RandomRejection
+pub const EXTRA_UNIFORM_DRAWS: usize = 256;
+
 /// A uniformly random visible point from robot `me` among the robots `eligible`
 /// accepts; `None` if there is none.
 ///
@@ -50,10 +59,12 @@ pub const REJECTION_DRAWS: usize = 32;
 ///
 /// `candidates`, if given, lists a superset of the eligible robots (in any order) for
 /// the full listing, which is then sorted, so the choice is the same as over all robots.
-/// With `redraw`, up to [`REJECTION_DRAWS`] more draws are made among them (the `k`-th
-/// smallest robot index for a uniform `k`: the same whatever order they are listed in)
-/// before the full listing; the result is uniform over the eligible visible points
-/// either way.
+/// With `redraw`, [`EXTRA_UNIFORM_DRAWS`] more uniform draws over all robots come
+/// first, then up to [`REJECTION_DRAWS`] draws among the candidates (the `k`-th
+/// smallest robot index for a uniform `k`: the same whatever order they are listed in),
+/// then the full listing; the result is uniform over the eligible visible points
+/// either way (each step draws uniformly from a superset and keeps only eligible
+/// visible points).
 pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     sight: &S,
     me: usize,
@@ -74,6 +85,14 @@ pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     }
     if nobody() {
         return None;
+    }
+    if candidates.as_ref().is_some_and(|c| c.redraw) {
+        for _ in 0..EXTRA_UNIFORM_DRAWS {
+            let j = stream.below(n);
+            if j != me && eligible(j) && sight.is_visible_point(me, j) {
+                return Some(j);
+            }
+        }
     }
     let pool: Vec<usize> = match candidates {
         Some(Candidates { list, redraw }) => {
