@@ -433,6 +433,11 @@ impl SegmentGrid {
         } else {
             &self.columns
         };
+        // Read only before the first filter pass (below): asked for now, the two
+        // places (random robots, a cache and TLB miss each at 10^6) arrive while the
+        // first batch of bands is laid out.
+        prefetch(&g.place[i]);
+        prefetch(&g.place[j]);
         let (a, b) = (g.run, 1 - g.run);
         let (pa, pb, da, db) = (p.axis(a), p.axis(b), d.axis(a), d.axis(b));
         // A blocker lies within `tol` of the segment, so within `tol` of its extent on
@@ -468,7 +473,7 @@ impl SegmentGrid {
         // The ends lie on the line: the line filter leaves out their places in the
         // layout (for a robot that moved since, its old place), sparing an exact pass
         // over the first and last slices without reading which robot each place holds.
-        let ends = [g.place[i], g.place[j]];
+        let mut ends = None;
         // Bands are taken a batch at a time: first where the line crosses each, then
         // its slice's bounds, then its robots, each step prefetching what the next one
         // reads, so that the cache misses of a batch overlap instead of adding up.
@@ -510,6 +515,7 @@ impl SegmentGrid {
             }
             for &(s0, s1) in &slices[..m] {
                 // Candidates are rare: one branch-free pass over the slice first.
+                let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
                 if !filter.line.any(&g.coords, s0, s1, ends) {
                     continue;
                 }
