@@ -1,8 +1,9 @@
-//! Visibility queries, index building, one round per algorithm, one small paper run.
+//! Visibility queries, index building, the hull, one round per algorithm, a late round
+//! of a large ConvergeLocality run, one small paper run.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use monoculus_benches::{lattice, paper_config, unit_density};
-use monoculus_core::algorithms::AlgorithmKind;
+use monoculus_benches::{late_locality, lattice, paper_config, unit_density};
+use monoculus_core::algorithms::{AlgorithmKind, TargetPolicy};
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::{Sight, VisionParams, visible_points_sweep_2d};
 use monoculus_engine::{IndexedSight, SegmentGrid, Simulation};
@@ -100,6 +101,39 @@ fn one_round(c: &mut Criterion) {
     g.finish();
 }
 
+/// One FSYNC ConvergeLocality round late in a large run (a dense core within c, a few
+/// stragglers): where the 32 uniform draws miss, `random` checks the view to every far
+/// robot, `random_rejection` draws more (uniformly, then among the far robots).
+fn late_round(c: &mut Criterion) {
+    let mut g = c.benchmark_group("late_round");
+    g.sample_size(10);
+    for (target, name, sizes) in [
+        (TargetPolicy::Random, "random", &[10_000usize][..]),
+        (
+            TargetPolicy::RandomRejection,
+            "random_rejection",
+            &[10_000, 100_000][..],
+        ),
+    ] {
+        for &n in sizes {
+            let pts = late_locality(n, 6);
+            let mut config = paper_config(AlgorithmKind::ConvergeLocality, 6);
+            config.algorithm.target = target;
+            g.bench_with_input(BenchmarkId::new(name, n), &pts, |b, pts| {
+                b.iter_batched(
+                    || Simulation::new(config, pts.clone()).unwrap(),
+                    |mut sim| {
+                        sim.step();
+                        sim
+                    },
+                    criterion::BatchSize::LargeInput,
+                )
+            });
+        }
+    }
+    g.finish();
+}
+
 fn paper_run(c: &mut Criterion) {
     let mut g = c.benchmark_group("paper_run");
     g.sample_size(10);
@@ -120,5 +154,13 @@ fn paper_run(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, queries, index_build, hull, one_round, paper_run);
+criterion_group!(
+    benches,
+    queries,
+    index_build,
+    hull,
+    one_round,
+    late_round,
+    paper_run
+);
 criterion_main!(benches);

@@ -31,3 +31,22 @@ pub fn lattice(n: usize) -> Vec<DVec2> {
 pub fn paper_config(kind: AlgorithmKind, seed: u64) -> SimConfig {
     SimConfig::paper(kind, seed, 1_000_000)
 }
+
+/// A swarm as late in a large ConvergeLocality run (measured at round 215 of
+/// `configs/bench/locality_1e5_rejection.toml`): 95% of the robots uniform in a disc of
+/// radius 1.8, all within c = 2 of most others, and 5% stragglers uniform in the
+/// annulus of radii 2 and 20. Most robots then see a few percent of the swarm far, so
+/// their 32 uniform draws often miss.
+pub fn late_locality(n: usize, seed: u64) -> Vec<DVec2> {
+    use monoculus_core::rng::Stream;
+    let mut rng = Stream::new(seed, 0x1a7e, 0, 0);
+    (0..n)
+        .map(|k| {
+            let (r_lo, r_hi) = if k % 20 == 0 { (2.0, 20.0) } else { (0.0, 1.8) };
+            // Uniform in the annulus: the square of the radius is uniform.
+            let r = rng.uniform_in(r_lo * r_lo, r_hi * r_hi).sqrt();
+            let a = rng.uniform() * std::f64::consts::TAU;
+            DVec2::new(r * a.cos(), r * a.sin())
+        })
+        .collect()
+}
