@@ -121,11 +121,12 @@ pub enum TargetPolicy {
     /// every eligible visible point and draw one of them (the reference procedure).
     #[default]
     Random,
-    /// The same 32 draws; then draw among the robots that may be eligible (for
-    /// ConvergeLocality: the robots farther than c, found by a range query) until one
-    /// is eligible and visible, and list them all only after 32 more misses. The late
-    /// rounds of a large ConvergeLocality run, where most robots see few far robots,
-    /// then cost one line of sight per robot instead of one per far robot.
+    /// The same 32 draws, then 256 more uniform draws (ConvergeLocality); then draw
+    /// among the robots that may be eligible (the robots farther than c, found by a
+    /// range query) until one is eligible and visible, and list them all only after 32
+    /// more misses. The late rounds of a large ConvergeLocality run, where most robots
+    /// see few far robots, then cost one line of sight per robot instead of one per
+    /// far robot.
     RandomRejection,
 }
 
