@@ -52,6 +52,37 @@ fn index_build(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("segment_grid", n), &pts, |b, pts| {
             b.iter(|| SegmentGrid::new(black_box(pts)))
         });
+        // The update of a late ConvergeQuadrant round: n / 100 robots moved inside the
+        // box. A sight taken after the previous one keeps its grid (the moved robots
+        // stale) against one built afresh; each answers one line of sight, which
+        // needs the grid.
+        let mut moved = pts.clone();
+        for k in (0..n).step_by(100) {
+            moved[k] = (moved[k] + moved[(k + 1) % n]) * 0.5;
+        }
+        let vision = VisionParams::default();
+        let previous = || {
+            let s = IndexedSight::new(pts.clone(), vision);
+            s.sees(0, 1);
+            s
+        };
+        g.bench_function(BenchmarkId::new("update_after_few_moved", n), |b| {
+            b.iter_batched(
+                previous,
+                |prev| IndexedSight::after(prev, moved.clone(), vision).sees(0, n / 2),
+                criterion::BatchSize::LargeInput,
+            )
+        });
+        g.bench_function(BenchmarkId::new("rebuild_after_few_moved", n), |b| {
+            b.iter_batched(
+                previous,
+                |prev| {
+                    drop(prev);
+                    IndexedSight::new(moved.clone(), vision).sees(0, n / 2)
+                },
+                criterion::BatchSize::LargeInput,
+            )
+        });
     }
     g.finish();
 }
