@@ -12,7 +12,7 @@ use monoculus_core::vision::{
 };
 use rstar::{RTree, primitives::GeomWithData};
 
-use super::{IndexPoint, SegmentGrid, Stale, Tube};
+use super::{IndexPoint, SegmentGrid, Stale, Tube, prefetch};
 
 /// One snapshot of the swarm with a spatial index over it, built on first use.
 ///
@@ -162,6 +162,12 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
             return false;
         }
         if P::DIM == 2 {
+            // A visible robot is asked next whether it is alone (`Sight::alone`): what
+            // that reads arrives during the walk (hints, no effect on results).
+            if let Some(known) = self.isolated.get() {
+                prefetch(&known[j]);
+            }
+            self.grid().prefetch_isolated(j);
             let blocker =
                 |k: usize| k != i && k != j && blocks(p, self.positions[k], q, &self.vision);
             return !self.grid().blocked(&self.positions, i, j, &self.vision)
@@ -294,6 +300,11 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
                 out.push(k);
             }
         });
+        // The first few are asked about at once (`count_visible_up_to`): their
+        // positions, for the lines of sight (a hint, no effect on results).
+        for &k in out.iter().take(4) {
+            prefetch(&self.positions[k]);
+        }
         out
     }
 

@@ -9,5 +9,6 @@ mod tube;
 
 pub use index_point::IndexPoint;
 pub use indexed_sight::IndexedSight;
+pub(crate) use segment_grid::prefetch;
 pub use segment_grid::{SegmentGrid, Stale};
 pub use tube::Tube;

@@ -253,6 +253,12 @@ impl SegmentGrid {
         (self.lo[0] <= x) & (x <= self.hi[0]) & (self.lo[1] <= y) & (y <= self.hi[1])
     }
 
+    /// Asks for what [`SegmentGrid::isolated`] reads first about robot `k` (a hint).
+    #[inline]
+    pub fn prefetch_isolated(&self, k: usize) {
+        prefetch(&self.rows.place[k]);
+    }
+
     /// The mean spacing between robots (the side of a cell).
     pub fn cell_size(&self) -> f64 {
         self.spacing
@@ -781,7 +787,7 @@ impl<P: Point> Iterator for Nearest<'_, P> {
 
 /// Asks for the cache line holding `x` (a hint: no effect on results).
 #[inline(always)]
-fn prefetch<T>(x: &T) {
+pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: prefetching is a hint that never faults, here on a valid reference. The
     // only unsafe block of the workspace (`unsafe_code = "deny"` elsewhere).
