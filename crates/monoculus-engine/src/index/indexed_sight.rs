@@ -300,6 +300,11 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
                 out.push(k);
             }
         });
+        // Robots are mostly decided in index order, each thread a run of them: the
+        // next one's cells are asked for now (a hint, no effect on results).
+        if let Some(next) = self.positions.get(i + 1) {
+            grid.prefetch_near(next.axis(0), next.axis(1), grid.cell_size());
+        }
         // The first few are asked about at once (`count_visible_up_to`): their
         // positions, for the lines of sight (a hint, no effect on results).
         for &k in out.iter().take(4) {

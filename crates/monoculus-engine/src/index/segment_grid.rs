@@ -259,6 +259,17 @@ impl SegmentGrid {
         prefetch(&self.rows.place[k]);
     }
 
+    /// Asks for the cell bounds [`SegmentGrid::for_each_near`] reads first around
+    /// `(x, y)` within `radius` (a hint).
+    #[inline]
+    pub fn prefetch_near(&self, x: f64, y: f64, radius: f64) {
+        let g = &self.rows;
+        let c = g.cell(x - radius);
+        for r in g.band(y - radius)..=g.band(y + radius) {
+            prefetch(&g.start[r * g.cells + c]);
+        }
+    }
+
     /// The mean spacing between robots (the side of a cell).
     pub fn cell_size(&self) -> f64 {
         self.spacing
