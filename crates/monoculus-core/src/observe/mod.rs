@@ -77,22 +77,22 @@ pub(crate) fn sample_visible_point<P: Point, S: Sight<P> + ?Sized>(
     if n < 2 {
         return None;
     }
-    for _ in 0..REJECTION_DRAWS {
-        let j = stream.below(n);
-        if j != me && eligible(j) && sight.is_visible_point(me, j) {
-            return Some(j);
-        }
+    // Up to `draws` robots drawn uniformly; the first eligible visible one.
+    let uniform = |draws: usize, stream: &mut Stream| {
+        (0..draws)
+            .map(|_| stream.below(n))
+            .find(|&j| j != me && eligible(j) && sight.is_visible_point(me, j))
+    };
+    if let Some(j) = uniform(REJECTION_DRAWS, stream) {
+        return Some(j);
     }
     if nobody() {
         return None;
     }
-    if candidates.as_ref().is_some_and(|c| c.redraw) {
-        for _ in 0..EXTRA_UNIFORM_DRAWS {
-            let j = stream.below(n);
-            if j != me && eligible(j) && sight.is_visible_point(me, j) {
-                return Some(j);
-            }
-        }
+    if candidates.as_ref().is_some_and(|c| c.redraw)
+        && let Some(j) = uniform(EXTRA_UNIFORM_DRAWS, stream)
+    {
+        return Some(j);
     }
     let pool: Vec<usize> = match candidates {
         Some(Candidates { list, redraw }) => {

@@ -164,13 +164,14 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
         if P::DIM == 2 {
             // A visible robot is asked next whether it is alone (`Sight::alone`): what
             // that reads arrives during the walk (hints, no effect on results).
+            let grid = self.grid();
             if let Some(known) = self.isolated.get() {
                 prefetch(&known[j]);
             }
-            self.grid().prefetch_isolated(j);
+            grid.prefetch_isolated(j);
             let blocker =
                 |k: usize| k != i && k != j && blocks(p, self.positions[k], q, &self.vision);
-            return !self.grid().blocked(&self.positions, i, j, &self.vision)
+            return !grid.blocked(&self.positions, i, j, &self.vision)
                 && !self.stale.iter().any(blocker);
         }
         let tube = Tube::new(p, q, self.vision.eps_ang);
