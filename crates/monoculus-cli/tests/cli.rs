@@ -2,18 +2,7 @@
 
 mod common;
 
-use common::{monoculus as run, reported};
-use std::path::{Path, PathBuf};
-
-fn ok(args: &[&str]) -> String {
-    let out = run(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
+use common::{monoculus as run, ok, reported, rows_without_wall, write_config};
 
 const SMALL: &str = r#"
 name = "small"
@@ -30,32 +19,6 @@ name = ["converge_locality", "converge_quadrant"]
 [scheduler]
 kind = "fsync"
 "#;
-
-fn write_config(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("cfg.toml");
-    std::fs::write(&path, text).unwrap();
-    path
-}
-
-/// runs.csv as rows without the wall_ms column, sorted.
-fn rows_without_wall(dir: &Path) -> Vec<Vec<String>> {
-    let mut r = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
-    let h = r.headers().unwrap().clone();
-    let wall = h.iter().position(|c| c == "wall_ms").unwrap();
-    let mut rows: Vec<Vec<String>> = r
-        .records()
-        .map(|rec| {
-            rec.unwrap()
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| *i != wall)
-                .map(|(_, v)| v.to_string())
-                .collect()
-        })
-        .collect();
-    rows.sort();
-    rows
-}
 
 #[test]
 fn run_writes_the_contract_files_and_columns() {
@@ -181,10 +144,25 @@ fn shards_partition_the_runs() {
     let (whole, parts) = (tmp.path().join("whole"), tmp.path().join("parts"));
     let c = cfg.to_str().unwrap();
     ok(&["run", c, "--out", whole.to_str().unwrap()]);
-    let s0 = ok(&["run", c, "--out", parts.to_str().unwrap(), "--shard", "0/3"]);
-    assert!(s0.contains("ran 6 runs"), "{s0}");
-    ok(&["run", c, "--out", parts.to_str().unwrap(), "--shard", "1/3"]);
-    ok(&["run", c, "--out", parts.to_str().unwrap(), "--shard", "2/3"]);
+    let ran: usize = (0..3)
+        .map(|k| {
+            let out = ok(&[
+                "run",
+                c,
+                "--out",
+                parts.to_str().unwrap(),
+                "--shard",
+                &format!("{k}/3"),
+            ]);
+            reported(&out.replace("ran ", "ran="), "ran")
+        })
+        .sum();
+    assert_eq!(ran, 16);
+    assert!(
+        !parts.join("runs.csv").exists(),
+        "shards write only their own files"
+    );
+    ok(&["merge", parts.to_str().unwrap()]);
     assert_eq!(rows_without_wall(&whole), rows_without_wall(&parts));
     assert_eq!(
         std::fs::read_to_string(whole.join("summary.csv")).unwrap(),

@@ -6,6 +6,7 @@ pub mod config;
 pub mod positions;
 pub mod results;
 pub mod runner;
+pub mod shard;
 
 pub use config::{Cell, ConfigError, Experiment, RunId};
 pub use runner::{RunOptions, SweepError, SweepReport, run_experiment, run_one};

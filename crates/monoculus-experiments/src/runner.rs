@@ -1,7 +1,7 @@
 //! Running a sweep: every pending (cell, seed), in parallel, each row written the
 //! moment its run finishes.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -11,20 +11,27 @@ use monoculus_engine::{EngineError, IndexPoint, RunOutcome, Simulation};
 use rayon::prelude::*;
 
 use crate::config::{Cell, Experiment, RunId};
-use crate::results::{ResultsDir, ResultsError, run_row};
+use crate::results::{OpenSpec, ResultsDir, ResultsError, run_row};
+use crate::shard::{Shard, shard_runs};
 
 /// Options of `monoculus run`.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct RunOptions {
-    /// Start over instead of resuming.
+    /// Start over instead of resuming (a shard: only its own file).
     pub force: bool,
-    /// Run only runs whose index k (cell-major, then seed) has k mod N == I.
-    pub shard: Option<(usize, usize)>,
+    /// Run only this shard's runs (see [`crate::shard::assign`]), into its own file.
+    pub shard: Option<Shard>,
+    /// The batch job, for provenance.
+    pub job: Option<String>,
 }
 
 /// What a sweep did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SweepReport {
+    /// The file the rows went to (`runs.csv` or the shard's file).
+    pub rows_path: PathBuf,
+    /// Duplicated rows found when resuming, dropped.
+    pub dropped_duplicates: usize,
     /// Runs in this shard of the experiment.
     pub total: usize,
     /// Runs already in `runs.csv`, skipped.
@@ -64,16 +71,6 @@ pub fn run_one(cell: &Cell, seed: u64) -> Result<(RunOutcome, f64), EngineError>
     Ok((outcome, start.elapsed().as_secs_f64() * 1e3))
 }
 
-/// The runs of this shard.
-pub fn shard_runs(exp: &Experiment, shard: Option<(usize, usize)>) -> Vec<RunId> {
-    exp.runs()
-        .into_iter()
-        .enumerate()
-        .filter(|(k, _)| shard.is_none_or(|(i, n)| k % n == i))
-        .map(|(_, r)| r)
-        .collect()
-}
-
 /// Runs the experiment into `out`, calling `progress(done, pending)` after each run.
 pub fn run_experiment(
     exp: &Experiment,
@@ -81,7 +78,15 @@ pub fn run_experiment(
     options: RunOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<SweepReport, SweepError> {
-    let results = ResultsDir::open(out, exp, options.force)?;
+    let results = ResultsDir::open(
+        out,
+        exp,
+        &OpenSpec {
+            shard: options.shard,
+            force: options.force,
+            job: options.job.clone(),
+        },
+    )?;
     let runs = shard_runs(exp, options.shard);
     let total = runs.len();
     let pending: Vec<RunId> = runs
@@ -123,6 +128,8 @@ pub fn run_experiment(
     }
     results.finish(exp)?;
     Ok(SweepReport {
+        rows_path: results.rows_path().to_path_buf(),
+        dropped_duplicates: results.dropped_duplicates,
         total,
         skipped,
         ran: pending.len(),

@@ -2,8 +2,10 @@
 
 mod check;
 mod look;
+mod merge;
 mod plot;
 mod run;
+mod slurm;
 mod stress;
 mod table;
 mod trace;
@@ -39,6 +41,10 @@ enum Command {
     Plot(plot::PlotArgs),
     /// Engine throughput: timed FSYNC rounds on a swarm of density 1.
     Stress(stress::StressArgs),
+    /// Merge the shard files of a results folder into runs.csv and summary.csv.
+    Merge(merge::MergeArgs),
+    /// Write (and with --submit, submit) Slurm job-array scripts for a sweep or stress runs.
+    Slurm(slurm::SlurmArgs),
 }
 
 /// How a command failed: bad input (exit status 2) or anything else (1).
@@ -67,7 +73,7 @@ impl From<ResultsError> for Failure {
             ResultsError::Mismatch { .. } | ResultsError::Corrupt { .. } => {
                 Failure::Input(e.to_string())
             }
-            ResultsError::Io { .. } => Failure::Other(e.into()),
+            ResultsError::Io { .. } | ResultsError::Busy { .. } => Failure::Other(e.into()),
         }
     }
 }
@@ -108,13 +114,33 @@ impl ConfigArgs {
     }
 }
 
-/// Builds the rayon pool for `--threads` (default: all cores).
-pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure> {
-    if threads == Some(0) {
-        return Err(Failure::Input("--threads: must be at least 1".into()));
+/// The most worker threads a command starts.
+pub const MAX_THREADS: usize = 1024;
+
+/// A variable of this process's environment (unset or not UTF-8: `None`).
+pub fn env_var(name: &str) -> Option<String> {
+    std::env::var(name).ok()
+}
+
+/// The threads a command uses: `--threads`, else the CPUs Slurm gave the task
+/// (`SLURM_CPUS_PER_TASK`), else all cores (`None`).
+pub fn threads_wanted(threads: Option<usize>) -> Result<Option<usize>, Failure> {
+    match threads {
+        Some(0) => Err(Failure::Input("--threads: must be at least 1".into())),
+        Some(t) if t > MAX_THREADS => Err(Failure::Input(format!(
+            "--threads {t}: at most {MAX_THREADS}"
+        ))),
+        Some(t) => Ok(Some(t)),
+        None => Ok(monoculus_experiments::shard::cpus_from_env(&env_var)
+            .map_err(Failure::Input)?
+            .map(|t| t.min(MAX_THREADS))),
     }
+}
+
+/// Builds the rayon pool for `--threads` (see [`threads_wanted`]).
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure> {
     rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
+        .num_threads(threads_wanted(threads)?.unwrap_or(0))
         .build()
         .map_err(|e| Failure::Other(e.into()))
 }
@@ -129,5 +155,7 @@ pub fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Table(a) => table::table(a),
         Command::Plot(a) => plot::plot(a),
         Command::Stress(a) => stress::stress(a),
+        Command::Merge(a) => merge::merge(a),
+        Command::Slurm(a) => slurm::slurm(a),
     }
 }

@@ -1,9 +1,10 @@
 use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
+use monoculus_experiments::shard::{Shard, job_id};
 use monoculus_experiments::{RunOptions, run_experiment};
 
-use super::{ConfigArgs, Failure, thread_pool};
+use super::{ConfigArgs, Failure, env_var, thread_pool};
 
 #[derive(clap::Args, Debug)]
 pub struct RunArgs {
@@ -12,28 +13,26 @@ pub struct RunArgs {
     /// Results folder (default: results/<experiment name>).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Worker threads (default: all cores). Results do not depend on it.
+    /// Worker threads (default: SLURM_CPUS_PER_TASK if set, else all cores). Results do
+    /// not depend on it.
     #[arg(long)]
     threads: Option<usize>,
-    /// Run only the runs k (cell-major, then seed) with k mod N == I, as `I/N`, 0 <= I < N.
-    #[arg(long, value_name = "I/N")]
+    /// Run only shard I of N (0 <= I < N), into its own file DIR/shards/I-of-N.csv; `auto`
+    /// reads I and N from the job array's environment (Slurm, SGE, LSF).
+    #[arg(long, value_name = "I/N|auto")]
     shard: Option<String>,
-    /// Start over: discard the results already in the folder.
+    /// Start over: discard the results already in the folder (with --shard: the shard's).
     #[arg(long)]
     force: bool,
 }
 
-fn parse_shard(s: &str) -> Result<(usize, usize), Failure> {
-    let bad = || Failure::Input(format!("--shard {s}: expected I/N with 0 <= I < N"));
-    let (i, n) = s.split_once('/').ok_or_else(bad)?;
-    let (i, n): (usize, usize) = (
-        i.trim().parse().map_err(|_| bad())?,
-        n.trim().parse().map_err(|_| bad())?,
-    );
-    if n == 0 || i >= n {
-        return Err(bad());
+/// `--shard I/N` or `--shard auto`.
+pub fn parse_shard(s: &str) -> Result<Shard, Failure> {
+    if s.trim() == "auto" {
+        Shard::from_env(&env_var).map_err(Failure::Input)
+    } else {
+        Shard::parse(s).map_err(Failure::Input)
     }
-    Ok((i, n))
 }
 
 pub fn run(args: RunArgs) -> Result<(), Failure> {
@@ -63,19 +62,39 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
             RunOptions {
                 force: args.force,
                 shard,
+                job: job_id(&env_var),
             },
             &progress,
         )
     })?;
     bar.finish_and_clear();
-    println!(
-        "{}: ran {} runs, {} already done, into {}",
-        exp.name,
-        report.ran,
-        report.skipped,
-        out.display()
-    );
-    print_summary(&out.join("summary.csv"))?;
+    if report.dropped_duplicates > 0 {
+        eprintln!(
+            "warning: {}: dropped {} duplicated rows",
+            report.rows_path.display(),
+            report.dropped_duplicates
+        );
+    }
+    match shard {
+        None => {
+            println!(
+                "{}: ran {} runs, {} already done, into {}",
+                exp.name,
+                report.ran,
+                report.skipped,
+                out.display()
+            );
+            print_summary(&out.join("summary.csv"))?;
+        }
+        Some(s) => println!(
+            "{}: shard {s}: ran {} runs, {} already done, into {}; when every shard is done: monoculus merge {}",
+            exp.name,
+            report.ran,
+            report.skipped,
+            report.rows_path.display(),
+            out.display()
+        ),
+    }
     Ok(())
 }
 

@@ -1,11 +1,17 @@
+use std::path::PathBuf;
 use std::time::Instant;
 
 use glam::DVec2;
 use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_engine::{SimConfig, Simulation};
+use monoculus_experiments::results::{
+    Attempt, GIT_COMMIT, StressLog, StressRow, VERSION, host_name, quantile, stress_shard_path,
+};
+use monoculus_experiments::shard::{Shard, balance, job_id};
 
-use super::{Failure, thread_pool};
+use super::run::parse_shard;
+use super::{Failure, MAX_THREADS, env_var, thread_pool, threads_wanted};
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 enum Shape {
@@ -15,26 +21,47 @@ enum Shape {
     Lattice,
 }
 
+impl Shape {
+    fn name(self) -> &'static str {
+        match self {
+            Shape::Square => "square",
+            Shape::Lattice => "lattice",
+        }
+    }
+}
+
+/// The most robots `stress` builds (about 2.5 GB at 10^7; beyond, ask for it in a config).
+const MAX_STRESS_N: usize = 100_000_000;
+
 #[derive(clap::Args, Debug)]
 pub struct StressArgs {
-    /// Number of robots.
-    #[arg(long)]
-    n: usize,
+    /// Number of robots; a list (`--n 10000,100000`) measures each.
+    #[arg(long, value_delimiter = ',', required = true)]
+    n: Vec<usize>,
     /// FSYNC rounds to time.
     #[arg(long)]
     rounds: u64,
     /// Algorithm.
     #[arg(long, default_value = "converge_locality")]
     algorithm: String,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
+    /// Worker threads (default: SLURM_CPUS_PER_TASK if set, else all cores); a list
+    /// (`--threads 1,2,4`) measures each.
+    #[arg(long, value_delimiter = ',')]
+    threads: Vec<usize>,
     /// Seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Start configuration.
     #[arg(long, value_enum, default_value = "square")]
     init: Shape,
+    /// Append one row per measurement to this CSV (resumable: measurements already in it
+    /// are skipped).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Measure only shard I of N of the measurements (`auto`: from the job array), into
+    /// the CSV's shard file (stress.csv -> stress.I-of-N.csv); needs --csv.
+    #[arg(long, value_name = "I/N|auto")]
+    shard: Option<String>,
 }
 
 /// Peak resident memory of this process in MB (Linux), if known.
@@ -45,11 +72,29 @@ fn peak_rss_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
+/// Resets the peak resident memory to the current (Linux), so that each measurement of a
+/// sweep reports its own peak.
+fn reset_peak_rss() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+/// One measurement: n robots, t threads.
+struct Plan {
+    measurement: usize,
+    n: usize,
+    threads: Option<usize>,
+}
+
 /// Times FSYNC rounds of one algorithm on a swarm of density 1 and reports the engine's
-/// throughput; the last line is `activations_per_s=<number>`.
+/// throughput; for each measurement the last line is `activations_per_s=<number>`.
 pub fn stress(args: StressArgs) -> Result<(), Failure> {
-    if args.n == 0 || args.rounds == 0 {
+    if args.n.contains(&0) || args.rounds == 0 {
         return Err(Failure::Input("--n and --rounds must be at least 1".into()));
+    }
+    if let Some(&n) = args.n.iter().find(|&&n| n > MAX_STRESS_N) {
+        return Err(Failure::Input(format!(
+            "--n {n}: at most {MAX_STRESS_N} robots"
+        )));
     }
     let kind = AlgorithmKind::ALL
         .into_iter()
@@ -62,49 +107,149 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
                 names.join(", ")
             ))
         })?;
-    let pool = thread_pool(args.threads)?;
-    let side = (args.n as f64).sqrt();
-    let shape = match args.init {
+    let threads: Vec<Option<usize>> = if args.threads.is_empty() {
+        vec![threads_wanted(None)?]
+    } else {
+        args.threads
+            .iter()
+            .map(|&t| threads_wanted(Some(t)))
+            .collect::<Result<_, _>>()?
+    };
+    let shard: Option<Shard> = args.shard.as_deref().map(parse_shard).transpose()?;
+    if shard.is_some() && args.csv.is_none() {
+        return Err(Failure::Input(
+            "--shard: needs --csv FILE (each shard writes its own file beside it)".into(),
+        ));
+    }
+    let mut plans = Vec::new();
+    for &n in &args.n {
+        for &t in &threads {
+            plans.push(Plan {
+                measurement: plans.len(),
+                n,
+                threads: t,
+            });
+        }
+    }
+    let measurements = plans.len();
+    if let Some(s) = shard {
+        let costs: Vec<f64> = plans
+            .iter()
+            .map(|p| (p.n as f64).powf(1.5) / p.threads.unwrap_or(1).min(MAX_THREADS) as f64)
+            .collect();
+        let of = balance(&costs, s.count);
+        plans = plans
+            .into_iter()
+            .zip(of)
+            .filter(|&(_, k)| k == s.index)
+            .map(|(p, _)| p)
+            .collect();
+    }
+    let job = job_id(&env_var);
+    let log = match &args.csv {
+        None => None,
+        Some(path) => {
+            let path = match shard {
+                Some(s) => stress_shard_path(path, s),
+                None => path.clone(),
+            };
+            let who = Attempt::this_process(shard.map(|s| s.to_string()), job.clone()).describe();
+            Some(StressLog::open(&path, &who)?)
+        }
+    };
+    for plan in plans {
+        let pool = thread_pool(plan.threads)?;
+        let mut row = StressRow {
+            measurement: plan.measurement,
+            measurements,
+            n: plan.n,
+            threads: pool.current_num_threads(),
+            algorithm: kind.name().into(),
+            scheduler: "fsync".into(),
+            init: args.init.name().into(),
+            seed: args.seed,
+            rounds: args.rounds,
+            setup_s: 0.0,
+            total_s: 0.0,
+            round_s_min: 0.0,
+            round_s_median: 0.0,
+            round_s_max: 0.0,
+            activations: 0,
+            activations_per_s: 0.0,
+            peak_memory_mb: None,
+            host: host_name(),
+            job: job.clone(),
+            monoculus_version: VERSION.into(),
+            git_commit: GIT_COMMIT.into(),
+        };
+        if log.as_ref().is_some_and(|l| l.done.contains(&row.key())) {
+            eprintln!(
+                "stress: n={} threads={}: already measured, skipped",
+                row.n, row.threads
+            );
+            continue;
+        }
+        reset_peak_rss();
+        measure(kind, args.init, &pool, &mut row)?;
+        if let Some(l) = &log {
+            l.append(&row)?;
+        }
+    }
+    Ok(())
+}
+
+/// Builds the swarm and times the rounds, filling `row`'s figures.
+fn measure(
+    kind: AlgorithmKind,
+    init: Shape,
+    pool: &rayon::ThreadPool,
+    row: &mut StressRow,
+) -> Result<(), Failure> {
+    let side = (row.n as f64).sqrt();
+    let shape = match init {
         Shape::Square => InitShape::Square { side },
         Shape::Lattice => InitShape::Lattice { side },
     };
     let setup = Instant::now();
-    let start: Vec<DVec2> = generate(&shape, args.n, args.seed);
-    let config = SimConfig::paper(kind, args.seed, u64::MAX);
+    let start: Vec<DVec2> = generate(&shape, row.n, row.seed);
+    let config = SimConfig::paper(kind, row.seed, u64::MAX);
     let mut sim = Simulation::new(config, start).map_err(|e| Failure::Input(e.to_string()))?;
+    row.setup_s = setup.elapsed().as_secs_f64();
     eprintln!(
         "stress: {} robots, {} FSYNC rounds of {}, {} threads (setup {:.2} s)",
-        args.n,
-        args.rounds,
+        row.n,
+        row.rounds,
         kind.name(),
-        pool.current_num_threads(),
-        setup.elapsed().as_secs_f64()
+        row.threads,
+        row.setup_s
     );
-    let mut total = 0.0;
-    let mut activations = 0u64;
-    for round in 1..=args.rounds {
+    let mut times = Vec::with_capacity(row.rounds as usize);
+    for round in 1..=row.rounds {
         let t = Instant::now();
         let (moving, activated) = pool.install(|| {
             sim.step();
             sim.round_counts()
         });
         let dt = t.elapsed().as_secs_f64();
-        total += dt;
-        activations += activated;
-        println!(
-            "round {round}: {:.3} s, {activated} activations, {moving} moved",
-            dt
-        );
+        times.push(dt);
+        row.activations += activated;
+        println!("round {round}: {dt:.3} s, {activated} activations, {moving} moved");
     }
+    row.total_s = times.iter().sum();
+    row.round_s_min = times.iter().copied().fold(f64::INFINITY, f64::min);
+    row.round_s_max = times.iter().copied().fold(0.0, f64::max);
+    row.round_s_median = quantile(&times, 0.5);
+    row.activations_per_s = row.activations as f64 / row.total_s;
+    row.peak_memory_mb = peak_rss_mb().map(|m| m.round());
     println!(
         "rounds={} total_s={:.3} mean_round_s={:.4}",
-        args.rounds,
-        total,
-        total / args.rounds as f64
+        row.rounds,
+        row.total_s,
+        row.total_s / row.rounds as f64
     );
-    if let Some(mb) = peak_rss_mb() {
+    if let Some(mb) = row.peak_memory_mb {
         println!("peak_memory_mb={mb:.0}");
     }
-    println!("activations_per_s={:.0}", activations as f64 / total);
+    println!("activations_per_s={:.0}", row.activations_per_s);
     Ok(())
 }

@@ -2,6 +2,7 @@
 
 #![allow(dead_code, reason = "each test binary uses a part")]
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs `monoculus` with `args`; whatever the outcome, it must not panic.
@@ -23,4 +24,42 @@ pub fn reported(stdout: &str, key: &str) -> usize {
         .and_then(|s| s.split_whitespace().next())
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| panic!("no {key}= in {stdout}"))
+}
+
+/// Runs `monoculus` with `args`, which must succeed; its stdout.
+pub fn ok(args: &[&str]) -> String {
+    let out = monoculus(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Writes `text` as `dir/cfg.toml`.
+pub fn write_config(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("cfg.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The rows of a CSV without the named columns, in file order.
+pub fn csv_rows_without(path: &Path, drop: &[&str]) -> Vec<Vec<String>> {
+    let mut r = csv::Reader::from_path(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let h = r.headers().unwrap().clone();
+    let keep: Vec<usize> = (0..h.len()).filter(|&i| !drop.contains(&&h[i])).collect();
+    r.records()
+        .map(|rec| {
+            let rec = rec.unwrap();
+            keep.iter().map(|&i| rec[i].to_string()).collect()
+        })
+        .collect()
+}
+
+/// runs.csv of a results folder as rows without the wall_ms column, sorted.
+pub fn rows_without_wall(dir: &Path) -> Vec<Vec<String>> {
+    let mut rows = csv_rows_without(&dir.join("runs.csv"), &["wall_ms"]);
+    rows.sort();
+    rows
 }

@@ -90,6 +90,10 @@ pub struct Experiment {
     pub resolved: String,
     /// Non-fatal findings (e.g. c < 2b).
     pub warnings: Vec<String>,
+    /// [`crate::results::config_hash`] of `resolved`: written in every row.
+    pub hash: String,
+    /// The folder relative paths in the config (`swarm.file`) are read from.
+    pub base: PathBuf,
 }
 
 /// One run of an experiment.
@@ -329,13 +333,21 @@ impl Experiment {
         }
         warnings.sort();
         warnings.dedup();
+        let resolved = toml::to_string(&resolved).expect("a table serialises");
         Ok(Experiment {
             name: first.name.clone(),
             seeds,
             axes,
             cells,
-            resolved: toml::to_string(&resolved).expect("a table serialises"),
+            hash: crate::results::config_hash(&resolved),
+            resolved,
             warnings,
+            base: std::path::absolute(if base.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                base
+            })
+            .unwrap_or_else(|_| base.to_path_buf()),
         })
     }
 

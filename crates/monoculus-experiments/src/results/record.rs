@@ -46,6 +46,10 @@ pub const METRIC_COLUMNS: [&str; 24] = [
     "wall_ms",
 ];
 
+/// The last column of `runs.csv`: the hash of the resolved config, so that every row
+/// says which experiment it belongs to.
+pub const CONFIG_HASH_COLUMN: &str = "config_hash";
+
 /// Swept keys that are not among [`PARAM_COLUMNS`]: each gets a column named by its
 /// dotted key.
 pub fn extra_axes(exp: &Experiment) -> Vec<String> {
@@ -69,6 +73,7 @@ pub fn runs_header(exp: &Experiment) -> Vec<String> {
     let mut h = param_header(exp);
     h.push("seed".into());
     h.extend(METRIC_COLUMNS.iter().map(|c| c.to_string()));
+    h.push(CONFIG_HASH_COLUMN.into());
     h
 }
 
@@ -150,6 +155,7 @@ pub fn run_row(
         cell.criterion().name().to_string(),
         o.ticks.map(|t| t.to_string()).unwrap_or_default(),
         format!("{wall_ms:.3}"),
+        exp.hash.clone(),
     ]);
     v
 }

@@ -1,15 +1,24 @@
-//! The results folder: `config.toml`, `runs.csv` (appended run by run, resumable),
-//! `summary.csv`.
+//! The results folder: `config.toml`, `provenance.toml`, and the rows of the runs, either
+//! in `runs.csv` (a whole run) or in one file per shard (`shards/I-of-N.csv`), each
+//! appended run by run and resumable.
+//!
+//! No two processes ever write the same file: a whole run holds the folder's lock
+//! exclusively; shards hold it shared, and each its own shard's lock exclusively.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::fs::{self, File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use super::record::{param_header, param_values, runs_header};
-use super::summary::{CellStats, summary_header, summary_row};
+use super::fsio::{create_if_absent, io, write_atomic};
+use super::lock::{Lock, LockKind, holder};
+use super::provenance::{Attempt, Provenance};
+use super::record::runs_header;
+use super::rows::{RunRows, read_rows, write_rows};
+use super::summary::write_summary;
 use crate::config::Experiment;
+use crate::shard::Shard;
 
 /// A results-folder failure.
 #[derive(Debug, thiserror::Error)]
@@ -22,7 +31,7 @@ pub enum ResultsError {
         /// Why.
         source: std::io::Error,
     },
-    /// The folder holds results of a different experiment.
+    /// The folder holds results of a different experiment or build.
     #[error("{path}: {message}")]
     Mismatch {
         /// The file.
@@ -30,7 +39,7 @@ pub enum ResultsError {
         /// What differs.
         message: String,
     },
-    /// A row of `runs.csv` is malformed.
+    /// A row of a results file is malformed.
     #[error("{path}:{line}: {message}")]
     Corrupt {
         /// The file.
@@ -40,214 +49,293 @@ pub enum ResultsError {
         /// What is wrong.
         message: String,
     },
+    /// Another process is writing into the folder or shard.
+    #[error("{path}: in use by {holder}; wait for it to end, or use another --out")]
+    Busy {
+        /// The folder or shard file.
+        path: String,
+        /// Who holds it.
+        holder: String,
+    },
 }
 
-fn io(path: &Path) -> impl Fn(std::io::Error) -> ResultsError + '_ {
-    move |source| ResultsError::Io {
-        path: path.display().to_string(),
-        source,
+/// The folder's lock file.
+pub const LOCK_FILE: &str = ".monoculus.lock";
+/// The folder of shard files.
+pub const SHARDS_DIR: &str = "shards";
+
+/// The shard files present in `dir/shards`: (shard, rows file).
+pub fn shard_files(dir: &Path) -> Result<Vec<(Shard, PathBuf)>, ResultsError> {
+    let sd = dir.join(SHARDS_DIR);
+    let entries = match fs::read_dir(&sd) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(io(&sd)(e)),
+    };
+    let mut out = Vec::new();
+    for e in entries {
+        let e = e.map_err(io(&sd))?;
+        let name = e.file_name().to_string_lossy().into_owned();
+        if let Some(stem) = name.strip_suffix(".csv")
+            && let Some(s) = Shard::from_stem(stem)
+        {
+            out.push((s, e.path()));
+        }
     }
+    out.sort_by_key(|(s, _)| (s.count, s.index));
+    Ok(out)
 }
 
-/// Writes `text` to `path` atomically (temporary file, then rename).
-pub fn write_atomic(path: &Path, text: &[u8]) -> Result<(), ResultsError> {
-    let tmp = path.with_extension("tmp");
-    fs::write(&tmp, text).map_err(io(&tmp))?;
-    fs::rename(&tmp, path).map_err(io(path))
-}
-
-/// An open results folder.
-pub struct ResultsDir {
-    dir: PathBuf,
-    header: Vec<String>,
-    runs: Mutex<File>,
-    /// (cell key, seed) of the runs already in `runs.csv`.
-    pub done: HashSet<(String, u64)>,
-}
-
-fn line_of(record: &[String]) -> Vec<u8> {
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(false)
-        .from_writer(vec![]);
-    w.write_record(record).expect("writing to memory");
-    w.into_inner().expect("writing to memory")
-}
-
-/// Reads `runs.csv`: header and rows. A last line cut short by a kill is dropped (and
-/// truncated away when `repair`).
-fn read_runs(path: &Path, repair: bool) -> Result<(Vec<String>, Vec<Vec<String>>), ResultsError> {
-    let mut bytes = fs::read(path).map_err(io(path))?;
-    if let Some(last_newline) = bytes.iter().rposition(|&b| b == b'\n') {
-        if last_newline + 1 != bytes.len() {
-            bytes.truncate(last_newline + 1);
-            if repair {
-                fs::write(path, &bytes).map_err(io(path))?;
+/// Who holds the folder: the shards running in it, or the holder of its lock.
+pub fn who_holds(dir: &Path) -> String {
+    let mut running = Vec::new();
+    if let Ok(files) = shard_files(dir) {
+        for (s, path) in files {
+            let lock = path.with_extension("lock");
+            if Lock::is_held(&lock) {
+                let who = holder(&lock).unwrap_or_else(|| "a process".into());
+                running.push(format!("shard {s} ({who})"));
             }
         }
+    }
+    if running.is_empty() {
+        holder(&dir.join(LOCK_FILE)).unwrap_or_else(|| "another process".into())
     } else {
-        bytes.clear();
+        running.join(", ")
     }
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .from_reader(bytes.as_slice());
-    let header: Vec<String> = reader
-        .headers()
-        .map_err(|e| ResultsError::Corrupt {
-            path: path.display().to_string(),
-            line: 1,
-            message: e.to_string(),
-        })?
-        .iter()
-        .map(String::from)
-        .collect();
-    let mut rows = Vec::new();
-    for r in reader.records() {
-        let r = r.map_err(|e| ResultsError::Corrupt {
-            path: path.display().to_string(),
-            line: e.position().map_or(0, |p| p.line() as usize),
-            message: e.to_string(),
-        })?;
-        rows.push(r.iter().map(String::from).collect());
+}
+
+/// Takes the folder's lock: exclusive for a whole run or a merge, shared for a shard.
+pub fn lock_folder(dir: &Path, kind: LockKind, who: &str) -> Result<Lock, ResultsError> {
+    Lock::try_take(&dir.join(LOCK_FILE), kind, who)?.ok_or_else(|| ResultsError::Busy {
+        path: dir.display().to_string(),
+        holder: who_holds(dir),
+    })
+}
+
+/// Writes `config.toml` if the folder has none (safe when many shards start at once), or
+/// checks that it holds this experiment.
+fn settle_config(
+    dir: &Path,
+    exp: &Experiment,
+    replace: bool,
+    advice: &str,
+) -> Result<(), ResultsError> {
+    let config = dir.join("config.toml");
+    if replace {
+        return write_atomic(&config, exp.resolved.as_bytes());
     }
-    Ok((header, rows))
+    if !create_if_absent(&config, exp.resolved.as_bytes())? {
+        let old = fs::read_to_string(&config).map_err(io(&config))?;
+        if old != exp.resolved {
+            return Err(ResultsError::Mismatch {
+                path: config.display().to_string(),
+                message: format!("holds a different experiment; {advice}"),
+            });
+        }
+    }
+    Ok(())
+}
+
+fn remove_if_present(path: &Path) -> Result<(), ResultsError> {
+    match fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(io(path)(e)),
+        _ => Ok(()),
+    }
+}
+
+/// How a results folder is opened.
+#[derive(Clone, Debug, Default)]
+pub struct OpenSpec {
+    /// Write one shard's file instead of `runs.csv`.
+    pub shard: Option<Shard>,
+    /// Start over (a whole run: the whole folder; a shard: its own file).
+    pub force: bool,
+    /// The batch job, for provenance.
+    pub job: Option<String>,
+}
+
+/// An open results folder, locked for this process.
+pub struct ResultsDir {
+    dir: PathBuf,
+    rows_path: PathBuf,
+    shard: Option<Shard>,
+    runs: Mutex<File>,
+    /// (cell key, seed) of the runs already in the rows file.
+    pub done: HashSet<(String, u64)>,
+    /// Duplicated rows found (and dropped) when resuming.
+    pub dropped_duplicates: usize,
+    _locks: Vec<Lock>,
 }
 
 impl ResultsDir {
-    /// Opens (creating) the folder for `exp`. Without `force`, a folder holding another
-    /// experiment is refused and finished runs are kept; with `force`, it starts over.
-    pub fn open(dir: &Path, exp: &Experiment, force: bool) -> Result<ResultsDir, ResultsError> {
+    /// Opens (creating) the folder for `exp`, locked. Without `force`, a folder holding
+    /// another experiment or rows of another build is refused and finished runs are kept;
+    /// with `force`, it starts over.
+    pub fn open(dir: &Path, exp: &Experiment, spec: &OpenSpec) -> Result<ResultsDir, ResultsError> {
         fs::create_dir_all(dir).map_err(io(dir))?;
-        let config = dir.join("config.toml");
-        let runs = dir.join("runs.csv");
-        if !force && config.exists() {
-            let old = fs::read_to_string(&config).map_err(io(&config))?;
-            if old != exp.resolved {
+        let attempt = Attempt::this_process(spec.shard.map(|s| s.to_string()), spec.job.clone());
+        let who = attempt.describe();
+        let mut locks = Vec::new();
+        let (rows_path, record_path) = match spec.shard {
+            None => {
+                locks.push(lock_folder(dir, LockKind::Exclusive, &who)?);
+                settle_config(
+                    dir,
+                    exp,
+                    spec.force,
+                    "use --force to start over, or another --out",
+                )?;
+                let runs = dir.join("runs.csv");
+                if spec.force {
+                    let sd = dir.join(SHARDS_DIR);
+                    if sd.exists() {
+                        fs::remove_dir_all(&sd).map_err(io(&sd))?;
+                    }
+                    for f in ["runs.csv", "summary.csv", "provenance.toml"] {
+                        remove_if_present(&dir.join(f))?;
+                    }
+                } else if !shard_files(dir)?.is_empty() && !complete(&runs, exp)? {
+                    return Err(ResultsError::Mismatch {
+                        path: dir.join(SHARDS_DIR).display().to_string(),
+                        message: "holds shard files: finish them (run --shard I/N) and `monoculus merge` the folder, or use --force to start over".into(),
+                    });
+                }
+                (runs, dir.join("provenance.toml"))
+            }
+            Some(s) => {
+                locks.push(lock_folder(dir, LockKind::Shared, &who)?);
+                settle_config(
+                    dir,
+                    exp,
+                    false,
+                    "a shard cannot replace it: use another --out",
+                )?;
+                let sd = dir.join(SHARDS_DIR);
+                fs::create_dir_all(&sd).map_err(io(&sd))?;
+                if let Some((other, path)) = shard_files(dir)?
+                    .into_iter()
+                    .find(|(o, _)| o.count != s.count)
+                {
+                    return Err(ResultsError::Mismatch {
+                        path: path.display().to_string(),
+                        message: format!(
+                            "is shard {other} of a split into {} shards, this is {s}; use the same N for every shard, or another --out",
+                            other.count
+                        ),
+                    });
+                }
+                let rows = sd.join(format!("{}.csv", s.stem()));
+                let lock = rows.with_extension("lock");
+                locks.push(
+                    Lock::try_take(&lock, LockKind::Exclusive, &who)?.ok_or_else(|| {
+                        ResultsError::Busy {
+                            path: rows.display().to_string(),
+                            holder: holder(&lock).unwrap_or_else(|| "another process".into()),
+                        }
+                    })?,
+                );
+                if spec.force {
+                    remove_if_present(&rows)?;
+                    remove_if_present(&rows.with_extension("toml"))?;
+                }
+                (rows.clone(), rows.with_extension("toml"))
+            }
+        };
+        // Provenance: rows are continued only by the build that wrote them.
+        let mut record = Provenance::new(&exp.hash, &exp.base);
+        if let Some(old) = Provenance::read(&record_path)? {
+            if !old.same_build(&record) && rows_path.exists() {
                 return Err(ResultsError::Mismatch {
-                    path: config.display().to_string(),
-                    message:
-                        "holds a different experiment; use --force to start over, or another --out"
-                            .into(),
+                    path: rows_path.display().to_string(),
+                    message: format!(
+                        "was written by {}, this is {}; use --force to start over",
+                        old.build(),
+                        record.build()
+                    ),
                 });
+            }
+            if old.config_hash == record.config_hash {
+                record.attempts = old.attempts;
             }
         }
-        write_atomic(&config, exp.resolved.as_bytes())?;
+        record.attempts.push(attempt);
+        record.write(&record_path)?;
+
         let header = runs_header(exp);
         let mut done = HashSet::new();
-        if force || !runs.exists() {
-            fs::write(&runs, line_of(&header)).map_err(io(&runs))?;
+        let mut dropped_duplicates = 0;
+        if rows_path.exists() {
+            let found = read_rows(&rows_path)?;
+            let mut rows = found.check(exp, &rows_path)?;
+            let before = rows.rows.len();
+            rows.dedup();
+            dropped_duplicates = before - rows.rows.len();
+            if found.partial
+                || dropped_duplicates > 0
+                || found.rows.is_empty() && found.header.is_empty()
+            {
+                write_rows(&rows_path, &header, &rows.rows)?;
+            }
+            done = rows.keys().collect();
         } else {
-            let (old_header, rows) = read_runs(&runs, true)?;
-            if old_header.is_empty() {
-                fs::write(&runs, line_of(&header)).map_err(io(&runs))?;
-            } else if old_header != header {
-                return Err(ResultsError::Mismatch {
-                    path: runs.display().to_string(),
-                    message: "its columns differ from this experiment's; use --force to start over, or another --out".into(),
-                });
-            }
-            let (ci, si) = (col(&header, "cell"), col(&header, "seed"));
-            for row in rows {
-                if let Ok(seed) = row[si].parse::<u64>() {
-                    done.insert((row[ci].clone(), seed));
-                }
-            }
+            write_rows(&rows_path, &header, &[])?;
         }
         let file = OpenOptions::new()
             .append(true)
-            .open(&runs)
-            .map_err(io(&runs))?;
+            .open(&rows_path)
+            .map_err(io(&rows_path))?;
         Ok(ResultsDir {
             dir: dir.to_path_buf(),
-            header,
+            rows_path,
+            shard: spec.shard,
             runs: Mutex::new(file),
             done,
+            dropped_duplicates,
+            _locks: locks,
         })
+    }
+
+    /// The file rows are appended to.
+    pub fn rows_path(&self) -> &Path {
+        &self.rows_path
     }
 
     /// Appends one finished run (one `write` call, flushed at once, so a killed sweep
     /// keeps every finished row).
     pub fn append(&self, row: &[String]) -> Result<(), ResultsError> {
-        debug_assert_eq!(row.len(), self.header.len());
-        let bytes = line_of(row);
-        let path = self.dir.join("runs.csv");
+        let bytes = super::rows::line_of(row);
         let mut f = self.runs.lock().unwrap_or_else(|p| p.into_inner());
-        f.write_all(&bytes).map_err(io(&path))?;
-        f.flush().map_err(io(&path))
+        f.write_all(&bytes).map_err(io(&self.rows_path))?;
+        f.flush().map_err(io(&self.rows_path))
     }
 
-    /// Writes `summary.csv` from every row in `runs.csv`, and, once every run of the
-    /// experiment is there, rewrites `runs.csv` sorted by cell and seed (so the file is
-    /// the same whatever order runs finished in).
+    /// A whole run: writes `summary.csv` from every row, and, once every run of the
+    /// experiment is there, rewrites `runs.csv` sorted by cell and seed (the same file
+    /// whatever order runs finished in). A shard writes nothing more: `merge` does.
     pub fn finish(&self, exp: &Experiment) -> Result<(), ResultsError> {
-        let runs = self.dir.join("runs.csv");
-        let (header, rows) = read_runs(&runs, false)?;
-        let (ci, si) = (col(&header, "cell"), col(&header, "seed"));
-        let cell_index: HashMap<&str, usize> = exp
-            .cells
-            .iter()
-            .map(|c| (c.key.as_str(), c.index))
-            .collect();
-        let mut stats: Vec<CellStats> = exp.cells.iter().map(|_| CellStats::default()).collect();
-        let mut unique = HashSet::new();
-        for (k, row) in rows.iter().enumerate() {
-            let Some(&c) = cell_index.get(row[ci].as_str()) else {
-                continue;
-            };
-            let parse = |name: &str| -> Result<f64, ResultsError> {
-                let v = &row[col(&header, name)];
-                v.parse::<f64>().map_err(|_| ResultsError::Corrupt {
-                    path: runs.display().to_string(),
-                    line: k + 2,
-                    message: format!("column {name}: `{v}` is not a number"),
-                })
-            };
-            if unique.insert((row[ci].clone(), row[si].clone())) {
-                stats[c].add(
-                    parse("rho")?,
-                    parse("tau")?,
-                    parse("rounds")?,
-                    row[col(&header, "converged")] == "true",
-                );
-                stats[c].add_hull(parse("hull_growth_max")?);
-            }
+        if self.shard.is_some() {
+            return Ok(());
         }
-        let mut out = csv::WriterBuilder::new().from_writer(vec![]);
-        out.write_record(summary_header(&param_header(exp)))
-            .expect("memory");
-        for cell in &exp.cells {
-            if stats[cell.index].runs > 0 {
-                out.write_record(summary_row(param_values(exp, cell), &stats[cell.index]))
-                    .expect("memory");
-            }
-        }
-        write_atomic(
-            &self.dir.join("summary.csv"),
-            &out.into_inner().expect("memory"),
-        )?;
-        if unique.len() == exp.cells.len() * exp.seeds.len() && rows.len() == unique.len() {
+        let _guard = self.runs.lock().unwrap_or_else(|p| p.into_inner());
+        let rows = read_rows(&self.rows_path)?.check(exp, &self.rows_path)?;
+        write_summary(&self.dir.join("summary.csv"), exp, &rows)?;
+        if rows.is_complete(exp) {
             let mut sorted = rows.clone();
-            sorted.sort_by_key(|r| {
-                (
-                    cell_index.get(r[ci].as_str()).copied(),
-                    r[si].parse::<u64>().unwrap_or(0),
-                )
-            });
-            if sorted != rows {
-                let mut bytes = line_of(&header);
-                for r in &sorted {
-                    bytes.extend(line_of(r));
-                }
-                let _guard = self.runs.lock().unwrap_or_else(|p| p.into_inner());
-                write_atomic(&runs, &bytes)?;
+            sorted.sort();
+            if sorted.rows != rows.rows {
+                write_rows(&self.rows_path, &runs_header(exp), &sorted.rows)?;
             }
         }
         Ok(())
     }
 }
 
-fn col(header: &[String], name: &str) -> usize {
-    header
-        .iter()
-        .position(|h| h == name)
-        .unwrap_or_else(|| panic!("runs.csv has a column {name}"))
+/// Whether `runs` holds every run of `exp` (so that shards, if any, were merged).
+fn complete(runs: &Path, exp: &Experiment) -> Result<bool, ResultsError> {
+    if !runs.exists() {
+        return Ok(false);
+    }
+    let rows: RunRows = read_rows(runs)?.check(exp, runs)?;
+    Ok(rows.is_complete(exp))
 }

@@ -1,6 +1,12 @@
 //! `summary.csv`: one row per cell.
 
-use super::record::num;
+use std::path::Path;
+
+use super::ResultsError;
+use super::fsio::write_atomic;
+use super::record::{num, param_header, param_values};
+use super::rows::RunRows;
+use crate::config::Experiment;
 
 /// Per-cell accumulator.
 #[derive(Clone, Debug, Default)]
@@ -95,6 +101,56 @@ pub fn summary_row(mut params: Vec<String>, s: &CellStats) -> Vec<String> {
         num(quantile(&s.hull_growth, 0.5)),
     ]);
     params
+}
+
+/// Writes `summary.csv` (atomically) from checked rows: one row per cell that has runs,
+/// each run counted once.
+pub fn write_summary(path: &Path, exp: &Experiment, rows: &RunRows) -> Result<(), ResultsError> {
+    let col = |name: &str| {
+        rows.header
+            .iter()
+            .position(|h| h == name)
+            .expect("runs header")
+    };
+    let (rho, tau, rounds, converged, growth) = (
+        col("rho"),
+        col("tau"),
+        col("rounds"),
+        col("converged"),
+        col("hull_growth_max"),
+    );
+    let mut stats: Vec<CellStats> = exp.cells.iter().map(|_| CellStats::default()).collect();
+    let mut unique = std::collections::HashSet::new();
+    for ((row, id), &line) in rows.rows.iter().zip(&rows.ids).zip(&rows.lines) {
+        if !unique.insert(*id) {
+            continue;
+        }
+        let parse = |c: usize| -> Result<f64, ResultsError> {
+            row[c].parse::<f64>().map_err(|_| ResultsError::Corrupt {
+                path: path.with_file_name("runs.csv").display().to_string(),
+                line,
+                message: format!("column {}: `{}` is not a number", rows.header[c], row[c]),
+            })
+        };
+        let s = &mut stats[id.cell];
+        s.add(
+            parse(rho)?,
+            parse(tau)?,
+            parse(rounds)?,
+            row[converged] == "true",
+        );
+        s.add_hull(parse(growth)?);
+    }
+    let mut out = csv::WriterBuilder::new().from_writer(vec![]);
+    out.write_record(summary_header(&param_header(exp)))
+        .expect("memory");
+    for cell in &exp.cells {
+        if stats[cell.index].runs > 0 {
+            out.write_record(summary_row(param_values(exp, cell), &stats[cell.index]))
+                .expect("memory");
+        }
+    }
+    write_atomic(path, &out.into_inner().expect("memory"))
 }
 
 #[cfg(test)]

@@ -1,0 +1,205 @@
+//! `monoculus merge DIR`: the shard files of a results folder into `runs.csv` and
+//! `summary.csv`, checked to hold every run of the experiment exactly once.
+
+use std::collections::HashMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use super::ResultsError;
+use super::fsio::io;
+use super::lock::LockKind;
+use super::provenance::{Attempt, Provenance, config_hash};
+use super::record::runs_header;
+use super::rows::{RunRows, read_rows, write_rows};
+use super::store::{SHARDS_DIR, lock_folder, shard_files};
+use super::summary::write_summary;
+use crate::config::{Experiment, RunId};
+use crate::shard::{Shard, assign};
+
+/// The runs one shard lacks.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MissingRuns {
+    /// The shard.
+    pub shard: Shard,
+    /// Its rows file, if it was ever started.
+    pub file: Option<PathBuf>,
+    /// Runs assigned to it.
+    pub assigned: usize,
+    /// Those not in its file.
+    pub missing: Vec<RunId>,
+}
+
+/// What a merge found and did.
+#[derive(Clone, Debug)]
+pub struct MergeReport {
+    /// The experiment, as `config.toml` holds it.
+    pub experiment: Experiment,
+    /// Into how many shards the runs were split.
+    pub shards: usize,
+    /// Runs of the experiment.
+    pub total: usize,
+    /// Runs found.
+    pub present: usize,
+    /// Shards lacking runs.
+    pub missing: Vec<MissingRuns>,
+    /// Partial last lines (a task killed mid-write) left out: (file, line).
+    pub cut_lines: Vec<(PathBuf, usize)>,
+    /// Whether `runs.csv` and `summary.csv` were written.
+    pub written: bool,
+}
+
+fn mismatch(path: &Path, message: impl Into<String>) -> ResultsError {
+    ResultsError::Mismatch {
+        path: path.display().to_string(),
+        message: message.into(),
+    }
+}
+
+/// Loads the experiment a results folder holds, from its `config.toml` (relative paths
+/// in it read from `base`), checked to read back as itself.
+fn load_experiment(dir: &Path, base: &Path) -> Result<Experiment, ResultsError> {
+    let path = dir.join("config.toml");
+    let text = fs::read_to_string(&path).map_err(io(&path))?;
+    let exp = Experiment::parse(&text, &path.display().to_string(), base, &[])
+        .map_err(|e| mismatch(&path, format!("cannot be read back: {e}")))?;
+    if exp.resolved != text {
+        return Err(mismatch(
+            &path,
+            "was not written by this monoculus (it does not read back as itself)",
+        ));
+    }
+    Ok(exp)
+}
+
+/// Merges the shard files of `dir`. With `partial`, writes what is there even if runs
+/// are missing; without, writes nothing then. `job` is the batch job, for provenance.
+pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeReport, ResultsError> {
+    let attempt = Attempt::this_process(Some("merge".into()), job);
+    let _lock = lock_folder(dir, LockKind::Exclusive, &attempt.describe())?;
+    let files = shard_files(dir)?;
+    let Some(&(first, _)) = files.first() else {
+        return Err(mismatch(
+            &dir.join(SHARDS_DIR),
+            "holds no shard files (shards/I-of-N.csv): run the shards with `monoculus run CONFIG --out DIR --shard I/N` first",
+        ));
+    };
+    let count = first.count;
+    if let Some((other, path)) = files.iter().find(|(s, _)| s.count != count) {
+        return Err(mismatch(
+            path,
+            format!("is shard {other}, another is of a split into {count} shards; keep one split"),
+        ));
+    }
+    let config_text =
+        fs::read_to_string(dir.join("config.toml")).map_err(io(&dir.join("config.toml")))?;
+    let hash = config_hash(&config_text);
+    let this_build = Provenance::new(&hash, Path::new(""));
+    let mut records = Vec::new();
+    for (s, path) in &files {
+        let record_path = path.with_extension("toml");
+        let record = Provenance::read(&record_path)?.ok_or_else(|| {
+            mismatch(
+                &record_path,
+                format!("is missing: shard {s} has no provenance"),
+            )
+        })?;
+        if record.config_hash != hash {
+            return Err(mismatch(
+                &record_path,
+                format!(
+                    "shard {s} ran another config (hash {}, config.toml's is {hash})",
+                    record.config_hash
+                ),
+            ));
+        }
+        if !record.same_build(&this_build) {
+            return Err(mismatch(
+                &record_path,
+                format!(
+                    "shard {s} was run by {}, this is {}; rerun it with --force, or merge with that build",
+                    record.build(),
+                    this_build.build()
+                ),
+            ));
+        }
+        records.push(record);
+    }
+    let exp = load_experiment(dir, Path::new(&records[0].config_base))?;
+    let mut all: Option<RunRows> = None;
+    let mut origin: HashMap<RunId, (PathBuf, usize)> = HashMap::new();
+    let mut present_by_shard: HashMap<usize, Vec<RunId>> = HashMap::new();
+    let mut cut_lines = Vec::new();
+    for (s, path) in &files {
+        let found = read_rows(path)?;
+        if found.partial {
+            cut_lines.push((path.clone(), found.rows.len() + 2));
+        }
+        let rows = found.check(&exp, path)?;
+        for (id, &line) in rows.ids.iter().zip(&rows.lines) {
+            if let Some((other, other_line)) = origin.insert(*id, (path.clone(), line)) {
+                return Err(mismatch(
+                    path,
+                    format!(
+                        "line {line}: cell {}, seed {} is also in {}:{other_line}; each run must be in one shard file",
+                        exp.cells[id.cell].key,
+                        id.seed,
+                        other.display()
+                    ),
+                ));
+            }
+            present_by_shard.entry(s.index).or_default().push(*id);
+        }
+        match &mut all {
+            None => all = Some(rows),
+            Some(a) => a.extend(rows),
+        }
+    }
+    let mut rows = all.expect("at least one shard file");
+    let runs = exp.runs();
+    let of = assign(&exp, count);
+    let by_path: HashMap<usize, PathBuf> =
+        files.iter().map(|(s, p)| (s.index, p.clone())).collect();
+    let mut missing = Vec::new();
+    for index in 0..count {
+        let assigned: Vec<RunId> = runs
+            .iter()
+            .zip(&of)
+            .filter(|&(_, &k)| k == index)
+            .map(|(r, _)| *r)
+            .collect();
+        let lacking: Vec<RunId> = assigned
+            .iter()
+            .filter(|r| !origin.contains_key(r))
+            .copied()
+            .collect();
+        if !lacking.is_empty() {
+            missing.push(MissingRuns {
+                shard: Shard { index, count },
+                file: by_path.get(&index).cloned(),
+                assigned: assigned.len(),
+                missing: lacking,
+            });
+        }
+    }
+    let written = missing.is_empty() || partial;
+    if written {
+        rows.sort();
+        write_rows(&dir.join("runs.csv"), &runs_header(&exp), &rows.rows)?;
+        write_summary(&dir.join("summary.csv"), &exp, &rows)?;
+        let mut merged = Provenance::new(&hash, Path::new(&records[0].config_base));
+        for r in records {
+            merged.attempts.extend(r.attempts);
+        }
+        merged.attempts.push(attempt);
+        merged.write(&dir.join("provenance.toml"))?;
+    }
+    Ok(MergeReport {
+        shards: count,
+        total: runs.len(),
+        present: origin.len(),
+        missing,
+        cut_lines,
+        written,
+        experiment: exp,
+    })
+}

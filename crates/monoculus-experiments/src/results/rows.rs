@@ -1,0 +1,218 @@
+//! The rows of `runs.csv` or of a shard file: read (a last line cut short by a kill is
+//! left out), checked against the experiment, deduplicated, sorted, written atomically.
+
+use std::collections::{HashMap, HashSet};
+use std::path::Path;
+
+use super::ResultsError;
+use super::fsio::{io, write_atomic};
+use super::record::{CONFIG_HASH_COLUMN, runs_header};
+use crate::config::{Experiment, RunId};
+
+/// One CSV record as bytes, newline included.
+pub(crate) fn line_of(record: &[String]) -> Vec<u8> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(vec![]);
+    w.write_record(record).expect("writing to memory");
+    w.into_inner().expect("writing to memory")
+}
+
+/// What a rows file holds, unchecked.
+#[derive(Clone, Debug)]
+pub struct FoundRows {
+    /// The header (empty for an empty file).
+    pub header: Vec<String>,
+    /// The complete rows.
+    pub rows: Vec<Vec<String>>,
+    /// The file ended in a line cut short (left out of `rows`).
+    pub partial: bool,
+}
+
+/// Reads a rows file.
+pub fn read_rows(path: &Path) -> Result<FoundRows, ResultsError> {
+    let mut bytes = std::fs::read(path).map_err(io(path))?;
+    let partial = match bytes.iter().rposition(|&b| b == b'\n') {
+        Some(last) => {
+            let cut = last + 1 != bytes.len();
+            bytes.truncate(last + 1);
+            cut
+        }
+        None => {
+            let cut = !bytes.is_empty();
+            bytes.clear();
+            cut
+        }
+    };
+    let corrupt = |e: csv::Error| ResultsError::Corrupt {
+        path: path.display().to_string(),
+        line: e.position().map_or(1, |p| p.line() as usize),
+        message: e.to_string(),
+    };
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .from_reader(bytes.as_slice());
+    let header: Vec<String> = reader
+        .headers()
+        .map_err(corrupt)?
+        .iter()
+        .map(String::from)
+        .collect();
+    let mut rows = Vec::new();
+    for r in reader.records() {
+        rows.push(r.map_err(corrupt)?.iter().map(String::from).collect());
+    }
+    Ok(FoundRows {
+        header,
+        rows,
+        partial,
+    })
+}
+
+/// Rows checked to belong to one experiment: each with its run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunRows {
+    /// The header.
+    pub header: Vec<String>,
+    /// The rows, in file order.
+    pub rows: Vec<Vec<String>>,
+    /// The run of each row.
+    pub ids: Vec<RunId>,
+    /// The 1-based file line of each row.
+    pub lines: Vec<usize>,
+}
+
+impl FoundRows {
+    /// Checks the header, the config hash of every row, and that every row is a run of
+    /// `exp`.
+    pub fn check(&self, exp: &Experiment, path: &Path) -> Result<RunRows, ResultsError> {
+        let header = runs_header(exp);
+        if self.header.is_empty() {
+            return Ok(RunRows {
+                header,
+                rows: Vec::new(),
+                ids: Vec::new(),
+                lines: Vec::new(),
+            });
+        }
+        if self.header != header {
+            return Err(ResultsError::Mismatch {
+                path: path.display().to_string(),
+                message: "its columns differ from this experiment's (results of another experiment or of an older monoculus); use --force to start over, or another --out".into(),
+            });
+        }
+        let col = |name: &str| header.iter().position(|h| h == name).expect("own header");
+        let (ci, si, hi) = (col("cell"), col("seed"), col(CONFIG_HASH_COLUMN));
+        let cells: HashMap<&str, usize> = exp
+            .cells
+            .iter()
+            .map(|c| (c.key.as_str(), c.index))
+            .collect();
+        let seeds: HashSet<u64> = exp.seeds.iter().copied().collect();
+        let mut ids = Vec::with_capacity(self.rows.len());
+        let mut lines = Vec::with_capacity(self.rows.len());
+        for (k, row) in self.rows.iter().enumerate() {
+            let line = k + 2;
+            let bad = |message: String| ResultsError::Corrupt {
+                path: path.display().to_string(),
+                line,
+                message,
+            };
+            if row[hi] != exp.hash {
+                return Err(ResultsError::Mismatch {
+                    path: format!("{}:{line}", path.display()),
+                    message: format!(
+                        "a row of another experiment (config hash {}, this one's is {}); use --force to start over, or another --out",
+                        row[hi], exp.hash
+                    ),
+                });
+            }
+            let cell = *cells.get(row[ci].as_str()).ok_or_else(|| {
+                bad(format!(
+                    "column cell: `{}` is not a cell of this experiment",
+                    row[ci]
+                ))
+            })?;
+            let seed: u64 = row[si]
+                .parse()
+                .ok()
+                .filter(|s| seeds.contains(s))
+                .ok_or_else(|| {
+                    bad(format!(
+                        "column seed: `{}` is not a seed of this experiment",
+                        row[si]
+                    ))
+                })?;
+            ids.push(RunId { cell, seed });
+            lines.push(line);
+        }
+        Ok(RunRows {
+            header,
+            rows: self.rows.clone(),
+            ids,
+            lines,
+        })
+    }
+}
+
+impl RunRows {
+    /// (cell key, seed) of every row.
+    pub fn keys(&self) -> impl Iterator<Item = (String, u64)> + '_ {
+        let ci = self
+            .header
+            .iter()
+            .position(|h| h == "cell")
+            .expect("own header");
+        self.rows
+            .iter()
+            .zip(&self.ids)
+            .map(move |(r, id)| (r[ci].clone(), id.seed))
+    }
+
+    /// Keeps the first row of every run.
+    pub fn dedup(&mut self) {
+        let mut seen = HashSet::new();
+        let keep: Vec<bool> = self.ids.iter().map(|id| seen.insert(*id)).collect();
+        let mut k = keep.iter();
+        self.rows.retain(|_| *k.next().expect("one flag a row"));
+        let mut k = keep.iter();
+        self.ids.retain(|_| *k.next().expect("one flag a row"));
+        let mut k = keep.iter();
+        self.lines.retain(|_| *k.next().expect("one flag a row"));
+    }
+
+    /// Whether every run of `exp` is here exactly once.
+    pub fn is_complete(&self, exp: &Experiment) -> bool {
+        let unique: HashSet<RunId> = self.ids.iter().copied().collect();
+        unique.len() == self.ids.len() && unique.len() == exp.cells.len() * exp.seeds.len()
+    }
+
+    /// Sorts by cell, then seed.
+    pub fn sort(&mut self) {
+        let mut order: Vec<usize> = (0..self.rows.len()).collect();
+        order.sort_by_key(|&k| (self.ids[k].cell, self.ids[k].seed, k));
+        self.rows = order.iter().map(|&k| self.rows[k].clone()).collect();
+        self.ids = order.iter().map(|&k| self.ids[k]).collect();
+        self.lines = order.iter().map(|&k| self.lines[k]).collect();
+    }
+
+    /// Appends other rows of the same experiment.
+    pub fn extend(&mut self, other: RunRows) {
+        self.rows.extend(other.rows);
+        self.ids.extend(other.ids);
+        self.lines.extend(other.lines);
+    }
+}
+
+/// Replaces `path` by the header and rows, atomically.
+pub fn write_rows(
+    path: &Path,
+    header: &[String],
+    rows: &[Vec<String>],
+) -> Result<(), ResultsError> {
+    let mut bytes = line_of(header);
+    for r in rows {
+        bytes.extend(line_of(r));
+    }
+    write_atomic(path, &bytes)
+}
