@@ -769,3 +769,35 @@ fn slurm_stress_writes_the_stress_array() {
     assert_eq!(code, 2, "{e}");
     assert!(e.contains("--stress options"), "{e}");
 }
+
+#[test]
+fn merge_rebuilds_configs_with_files_overrides_and_keys_out_of_schema_order() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sub = tmp.path().join("cfgs");
+    std::fs::create_dir_all(&sub).unwrap();
+    std::fs::write(sub.join("pts.csv"), "x,y\n0,0\n3,0\n0,3\n3,3\n1.5,1.5\n").unwrap();
+    // The swept keys are written algorithm first, swarm second: the resolved config.toml
+    // orders them by the schema, the cells keep the order written.
+    let cfg = sub.join("c.toml");
+    std::fs::write(
+        &cfg,
+        "name = \"files\"\nseeds = 3\n[algorithm]\nname = [\"converge_locality\", \"converge_quadrant\"]\nstep = [1.0, 0.5]\n[swarm]\ninit = \"file\"\nfile = \"pts.csv\"\nside = [8.0, 9.0]\n",
+    )
+    .unwrap();
+    let (whole, parts) = (tmp.path().join("whole"), tmp.path().join("parts"));
+    let set = ["--set", "stop.max_rounds=500"];
+    let mut args = vec!["run", s(&cfg), "--out", s(&whole)];
+    args.extend(set);
+    ok(&args);
+    for k in 0..2 {
+        let shard = format!("{k}/2");
+        let mut args = vec!["run", s(&cfg), "--out", s(&parts), "--shard", &shard];
+        args.extend(set);
+        ok(&args);
+    }
+    // The config file may change or vanish after the shards ran: merge needs only the folder
+    // (and the positions file).
+    std::fs::write(&cfg, "garbage").unwrap();
+    ok(&["merge", s(&parts)]);
+    assert_same_results(&whole, &parts);
+}

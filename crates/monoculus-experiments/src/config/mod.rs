@@ -94,6 +94,10 @@ pub struct Experiment {
     pub hash: String,
     /// The folder relative paths in the config (`swarm.file`) are read from.
     pub base: PathBuf,
+    /// The config's text as given.
+    pub source: String,
+    /// The `--set` overrides applied to it.
+    pub overrides: Vec<String>,
 }
 
 /// One run of an experiment.
@@ -348,6 +352,8 @@ impl Experiment {
                 base
             })
             .unwrap_or_else(|_| base.to_path_buf()),
+            source: text.to_string(),
+            overrides: overrides.to_vec(),
         })
     }
 

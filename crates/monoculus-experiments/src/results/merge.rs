@@ -55,17 +55,24 @@ fn mismatch(path: &Path, message: impl Into<String>) -> ResultsError {
     }
 }
 
-/// Loads the experiment a results folder holds, from its `config.toml` (relative paths
-/// in it read from `base`), checked to read back as itself.
-fn load_experiment(dir: &Path, base: &Path) -> Result<Experiment, ResultsError> {
+/// Rebuilds the experiment of a shard record, checked to be the one `config.toml` holds.
+fn load_experiment(
+    dir: &Path,
+    record: &Provenance,
+    record_path: &Path,
+) -> Result<Experiment, ResultsError> {
     let path = dir.join("config.toml");
     let text = fs::read_to_string(&path).map_err(io(&path))?;
-    let exp = Experiment::parse(&text, &path.display().to_string(), base, &[])
-        .map_err(|e| mismatch(&path, format!("cannot be read back: {e}")))?;
+    let exp = record
+        .experiment(&record_path.display().to_string())
+        .map_err(|e| mismatch(record_path, format!("its config cannot be read back: {e}")))?;
     if exp.resolved != text {
         return Err(mismatch(
             &path,
-            "was not written by this monoculus (it does not read back as itself)",
+            format!(
+                "is not the experiment {} ran (another config or another monoculus)",
+                record_path.display()
+            ),
         ));
     }
     Ok(exp)
@@ -93,7 +100,11 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
     let config_text =
         fs::read_to_string(dir.join("config.toml")).map_err(io(&dir.join("config.toml")))?;
     let hash = config_hash(&config_text);
-    let this_build = Provenance::new(&hash, Path::new(""));
+    let build = |r: &Provenance| (r.monoculus_version.clone(), r.git_commit.clone());
+    let this_build = (
+        super::provenance::VERSION.to_string(),
+        super::provenance::GIT_COMMIT.to_string(),
+    );
     let mut records = Vec::new();
     for (s, path) in &files {
         let record_path = path.with_extension("toml");
@@ -112,19 +123,20 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
                 ),
             ));
         }
-        if !record.same_build(&this_build) {
+        if build(&record) != this_build {
             return Err(mismatch(
                 &record_path,
                 format!(
-                    "shard {s} was run by {}, this is {}; rerun it with --force, or merge with that build",
+                    "shard {s} was run by {}, this is monoculus {} (commit {}); rerun it with --force, or merge with that build",
                     record.build(),
-                    this_build.build()
+                    this_build.0,
+                    this_build.1
                 ),
             ));
         }
-        records.push(record);
+        records.push((record, record_path));
     }
-    let exp = load_experiment(dir, Path::new(&records[0].config_base))?;
+    let exp = load_experiment(dir, &records[0].0, &records[0].1)?;
     let mut all: Option<RunRows> = None;
     let mut origin: HashMap<RunId, (PathBuf, usize)> = HashMap::new();
     let mut present_by_shard: HashMap<usize, Vec<RunId>> = HashMap::new();
@@ -186,8 +198,8 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
         rows.sort();
         write_rows(&dir.join("runs.csv"), &runs_header(&exp), &rows.rows)?;
         write_summary(&dir.join("summary.csv"), &exp, &rows)?;
-        let mut merged = Provenance::new(&hash, Path::new(&records[0].config_base));
-        for r in records {
+        let mut merged = Provenance::new(&exp);
+        for (r, _) in records {
             merged.attempts.extend(r.attempts);
         }
         merged.attempts.push(attempt);

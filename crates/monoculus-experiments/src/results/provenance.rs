@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::ResultsError;
 use super::fsio::{io, write_atomic};
+use crate::config::Experiment;
 
 /// The monoculus version that writes results.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -87,21 +88,41 @@ pub struct Provenance {
     pub config_hash: String,
     /// The folder relative file paths of the config (`swarm.file`) are read from.
     pub config_base: String,
+    /// The config file's text as given, before `--set` (what `merge` rebuilds the
+    /// experiment from: `config.toml` orders swept keys by the schema, not as written,
+    /// and cells are named in the order written).
+    #[serde(default)]
+    pub config_source: String,
+    /// The `--set` overrides, in order.
+    #[serde(default)]
+    pub config_overrides: Vec<String>,
     /// Every process that wrote, oldest first.
     #[serde(default, rename = "attempt")]
     pub attempts: Vec<Attempt>,
 }
 
 impl Provenance {
-    /// A record for this build and config.
-    pub fn new(config_hash: &str, config_base: &Path) -> Provenance {
+    /// A record for this build and experiment.
+    pub fn new(exp: &Experiment) -> Provenance {
         Provenance {
             monoculus_version: VERSION.into(),
             git_commit: GIT_COMMIT.into(),
-            config_hash: config_hash.into(),
-            config_base: config_base.display().to_string(),
+            config_hash: exp.hash.clone(),
+            config_base: exp.base.display().to_string(),
+            config_source: exp.source.clone(),
+            config_overrides: exp.overrides.clone(),
             attempts: Vec::new(),
         }
+    }
+
+    /// Rebuilds the experiment the record was written for.
+    pub fn experiment(&self, label: &str) -> Result<Experiment, crate::ConfigError> {
+        Experiment::parse(
+            &self.config_source,
+            label,
+            Path::new(&self.config_base),
+            &self.config_overrides,
+        )
     }
 
     /// Reads a record, `Ok(None)` if there is none.
@@ -158,14 +179,23 @@ mod tests {
     fn record_round_trips() {
         let tmp = tempfile::tempdir().unwrap();
         let p = tmp.path().join("p.toml");
-        let mut r = Provenance::new("00ff", Path::new("/c"));
+        let exp = Experiment::parse(
+            "name = \"p\"\nseeds = 1\n[swarm]\nn = 3\ninit = \"square\"\nside = 1.0\n[algorithm]\nname = \"median\"\n",
+            "p.toml",
+            Path::new("/c"),
+            &["seeds=2".into()],
+        )
+        .unwrap();
+        let mut r = Provenance::new(&exp);
         r.attempts.push(Attempt::this_process(
             Some("1/4".into()),
             Some("7_1".into()),
         ));
         r.attempts.push(Attempt::this_process(None, None));
         r.write(&p).unwrap();
-        assert_eq!(Provenance::read(&p).unwrap(), Some(r));
+        let back = Provenance::read(&p).unwrap().unwrap();
+        assert_eq!(back, r);
+        assert_eq!(back.experiment("p.toml").unwrap().resolved, exp.resolved);
         assert_eq!(Provenance::read(&tmp.path().join("none")).unwrap(), None);
     }
 }

@@ -243,7 +243,7 @@ impl ResultsDir {
             }
         };
         // Provenance: rows are continued only by the build that wrote them.
-        let mut record = Provenance::new(&exp.hash, &exp.base);
+        let mut record = Provenance::new(exp);
         if let Some(old) = Provenance::read(&record_path)? {
             if !old.same_build(&record) && rows_path.exists() {
                 return Err(ResultsError::Mismatch {
