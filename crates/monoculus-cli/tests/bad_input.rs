@@ -201,3 +201,211 @@ fn bad_arguments() {
     fails(&["check", "/nonexistent/config.toml"]);
     fails(&["frobnicate"]);
 }
+
+/// GOOD with `line` put in place of the line starting with the same key, or added.
+fn with(key_line: &str) -> String {
+    let key = key_line.split('=').next().unwrap().trim();
+    let same = |l: &&str| l.split('=').next().unwrap().trim() == key;
+    let mut lines: Vec<String> = GOOD.lines().map(String::from).collect();
+    match GOOD.lines().position(|l| same(&l)) {
+        Some(k) => lines[k] = key_line.to_string(),
+        None => lines.push(key_line.to_string()),
+    }
+    lines.join("\n") + "\n"
+}
+
+#[test]
+fn seeds_say_what_they_expect() {
+    for bad in ["-3", "\"three\"", "3.5", "true"] {
+        let (e, _) = config_error(&with(&format!("seeds = {bad}")));
+        assert!(
+            one_line(&e).starts_with("error: bad.toml:2: seeds: expected a count of seeds"),
+            "{e}"
+        );
+        assert!(e.contains(&format!("got {}", bad)), "{e}");
+    }
+    let (e, _) = config_error(&with("seeds = [1, -2]"));
+    assert!(
+        one_line(&e).contains("seeds: seed 1 of the list is -2"),
+        "{e}"
+    );
+    let (e, _) = config_error(&with("seeds = [1, 1, 2]"));
+    assert!(
+        one_line(&e).contains("seeds: seed 1 is listed twice"),
+        "{e}"
+    );
+}
+
+#[test]
+fn duplicate_cells_and_keys_and_huge_integers_name_their_key() {
+    let (e, _) = config_error(&with("n = [10, 20, 10]"));
+    assert!(
+        one_line(&e).contains("bad.toml:5: swarm.n: the list has 10 twice"),
+        "{e}"
+    );
+    let (e, _) = config_error(&GOOD.replace("n = 10\n", "n = 10\nn = 11\n"));
+    assert!(
+        one_line(&e).contains("bad.toml:6: swarm.n: duplicate key `n`"),
+        "{e}"
+    );
+    let (e, _) = config_error(&with("n = 99999999999999999999"));
+    assert!(
+        one_line(&e).contains("bad.toml:5: swarm.n: integer too large"),
+        "{e}"
+    );
+    let (e, _) = config_error(&with("max_rounds = -1").replace("max_rounds", "[stop]\nmax_rounds"));
+    assert!(one_line(&e).contains("stop.max_rounds"), "{e}");
+}
+
+#[test]
+fn sizes_beyond_the_machine_are_refused_before_allocating() {
+    let (e, _) = config_error(&with("seeds = 1000000000000"));
+    assert!(
+        one_line(&e).contains("seeds: 1000000000000 seeds x 1 cells: at most"),
+        "{e}"
+    );
+    let (e, _) = config_error(&with("n = 1000000000000"));
+    assert!(
+        one_line(&e).contains("swarm.n: 1000000000000 robots: at most"),
+        "{e}"
+    );
+    let (e, _) = config_error(&with("n = 4000000000"));
+    assert!(
+        one_line(&e).contains("robots need about 1.0 TB for one run; this machine has"),
+        "{e}"
+    );
+    let (e, _) = config_error(
+        &with("init = \"clusters\"").replace("side = 10.0", "side = 10.0\nclusters = 100000000000"),
+    );
+    assert!(
+        one_line(&e).contains("swarm.clusters: 100000000000 clusters for 10 robots"),
+        "{e}"
+    );
+    // A sweep whose lists multiply past the cell limit.
+    let lists: String = (0..7)
+        .map(|k| {
+            format!(
+                "x{k} = [{}]",
+                (0..10)
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let (e, _) = config_error(&GOOD.replace("[swarm]", &format!("[vision]\n{lists}\n[swarm]")));
+    assert_eq!(e.lines().count(), 1, "{e}");
+    let e = fails(&["stress", "--n", "1000000000000", "--rounds", "1"]);
+    assert!(
+        one_line(&e).contains("--n 1000000000000: 1000000000000 robots: at most"),
+        "{e}"
+    );
+    let e = fails(&[
+        "stress",
+        "--n",
+        "10",
+        "--rounds",
+        "1",
+        "--threads",
+        "100000",
+    ]);
+    assert!(
+        one_line(&e).contains("--threads 100000: at most 1024"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_seven_dimension_sweep_is_too_large() {
+    // 10^7 cells: refused by the cell limit, not by running out of memory.
+    let lists: String = (0..7)
+        .map(|k| {
+            format!(
+                "x{k} = [{}]",
+                (0..10)
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let text = format!("name = \"x\"\n[sweep]\n{lists}\n");
+    let tmp = tempfile::tempdir().unwrap();
+    let p = tmp.path().join("c.toml");
+    std::fs::write(&p, text).unwrap();
+    let e = fails(&["check", p.to_str().unwrap()]);
+    assert!(one_line(&e).contains("more than 1000000 cells"), "{e}");
+}
+
+#[test]
+fn huge_coordinates_are_refused() {
+    let (e, _) = config_error(&with("side = 1e308"));
+    assert!(
+        one_line(&e).contains(
+            "swarm.side: must be at most 1e100 (so that squares cannot overflow), got 1e308"
+        ),
+        "{e}"
+    );
+    let (e, _) = config_error(&with("step = 1e200"));
+    assert!(one_line(&e).contains("algorithm.step"), "{e}");
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("p.csv"), "x,y\n0,0\n1e200,1\n").unwrap();
+    let cfg = tmp.path().join("c.toml");
+    std::fs::write(
+        &cfg,
+        GOOD.replace(
+            "n = 10\ninit = \"square\"",
+            "init = \"file\"\nfile = \"p.csv\"",
+        ),
+    )
+    .unwrap();
+    let e = fails(&["check", cfg.to_str().unwrap()]);
+    assert!(
+        one_line(&e).contains("p.csv:3: column x: `1e200` is larger than 1e100"),
+        "{e}"
+    );
+    let e = fails(&[
+        "look",
+        tmp.path().join("p.csv").to_str().unwrap(),
+        "--robot",
+        "0",
+    ]);
+    assert!(one_line(&e).contains("`1e200`"), "{e}");
+}
+
+#[test]
+fn names_are_plain_file_names() {
+    for (bad, why) in [
+        ("\"../../x\"", "names a path"),
+        ("\"/tmp/abs\"", "names a path"),
+        ("\"\"", "is empty"),
+        ("\".hidden\"", "starts with a dot"),
+        ("[\"a\", \"b\"]", "not a list"),
+    ] {
+        let (e, _) = config_error(&with(&format!("name = {bad}")));
+        assert!(one_line(&e).contains("bad.toml:1: name: "), "{e}");
+        assert!(e.contains(why), "{bad}: {e}");
+    }
+}
+
+#[test]
+fn set_errors_are_blamed_on_the_set_argument() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = tmp.path().join("good.toml");
+    std::fs::write(&p, GOOD).unwrap();
+    let p = p.to_str().unwrap();
+    for (set, key) in [
+        ("bogus.x=5", "bogus"),
+        ("swarm.bogus=3", "swarm.bogus"),
+        ("swarm.n=-4", "swarm.n"),
+        ("seeds=three", "seeds"),
+    ] {
+        let e = fails(&["check", p, "--set", set]);
+        assert!(
+            one_line(&e).starts_with(&format!("error: --set: {key}: ")),
+            "{set}: {e}"
+        );
+    }
+}

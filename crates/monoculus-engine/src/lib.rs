@@ -39,7 +39,7 @@ mod stop;
 pub mod systems;
 
 pub use asynchrony::{AsyncSpec, AsyncStart, TickDist};
-pub use error::EngineError;
+pub use error::{EngineError, MAX_MAGNITUDE, MAX_ROBOTS};
 pub use index::{IndexPoint, IndexedSight, SegmentGrid, Tube};
 pub use resources::SightBackend;
 pub use scheduler::{SchedulerSpec, SequentialOrder};

@@ -21,7 +21,10 @@ use crate::systems::{
     RoundSet, activate_robots, advance_clock, apply_moves, compute_intents, decide_one,
     measure_committed, measure_shape, refresh_snapshot, take_snapshot,
 };
-use crate::{AsyncStart, EngineError, IndexPoint, SchedulerSpec, StopCriterion, StopSpec};
+use crate::{
+    AsyncStart, EngineError, IndexPoint, MAX_MAGNITUDE, MAX_ROBOTS, SchedulerSpec, StopCriterion,
+    StopSpec,
+};
 
 /// Everything that defines a run besides the initial positions.
 #[derive(Clone, Copy, Debug)]
@@ -158,26 +161,32 @@ impl<P: IndexPoint> Simulation<P> {
         if initial.is_empty() {
             return Err(EngineError::EmptySwarm);
         }
-        let a = &config.algorithm;
-        if !(a.step > 0.0 && a.step.is_finite()) {
+        if initial.len() > MAX_ROBOTS {
             return Err(EngineError::Invalid(format!(
-                "step must be positive, got {}",
+                "{} robots: at most {MAX_ROBOTS}",
+                initial.len()
+            )));
+        }
+        let a = &config.algorithm;
+        if !(a.step > 0.0 && a.step <= MAX_MAGNITUDE) {
+            return Err(EngineError::Invalid(format!(
+                "step must be positive and at most {MAX_MAGNITUDE:e}, got {}",
                 a.step
             )));
         }
-        if !(a.locality > 0.0 && a.locality.is_finite()) {
+        if !(a.locality > 0.0 && a.locality <= MAX_MAGNITUDE) {
             return Err(EngineError::Invalid(format!(
-                "locality must be positive, got {}",
+                "locality must be positive and at most {MAX_MAGNITUDE:e}, got {}",
                 a.locality
             )));
         }
         if initial
             .iter()
-            .any(|p| (0..P::DIM).any(|k| !p.axis(k).is_finite()))
+            .any(|p| (0..P::DIM).any(|k| !(p.axis(k).abs() <= MAX_MAGNITUDE)))
         {
-            return Err(EngineError::Invalid(
-                "initial positions must be finite".into(),
-            ));
+            return Err(EngineError::Invalid(format!(
+                "initial positions must be finite and at most {MAX_MAGNITUDE:e} in magnitude"
+            )));
         }
         let mut world = World::new();
         let params = Params {

@@ -3,6 +3,7 @@
 //! `config.toml`.
 
 pub mod config;
+pub mod limits;
 pub mod positions;
 pub mod results;
 pub mod runner;

@@ -6,12 +6,12 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 pub enum PositionsError {
     /// The file cannot be opened or read.
-    #[error("{path}: cannot read: {source}")]
+    #[error("{path}: cannot read: {cause}")]
     Io {
         /// The file.
         path: String,
         /// Why.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A line is malformed.
     #[error("{path}:{line}: {message}")]
@@ -55,9 +55,9 @@ impl PositionsFile {
 /// order; other columns are ignored).
 pub fn read_positions(path: &Path) -> Result<PositionsFile, PositionsError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| PositionsError::Io {
+    let text = std::fs::read_to_string(path).map_err(|cause| PositionsError::Io {
         path: name.clone(),
-        source,
+        cause,
     })?;
     parse_positions(&text, &name)
 }
@@ -96,7 +96,7 @@ pub fn parse_positions(text: &str, name: &str) -> Result<PositionsFile, Position
         let line = record.position().map_or(0, |p| p.line() as usize);
         let get = |i: usize, c: &str| -> Result<f64, PositionsError> {
             let field = record.get(i).unwrap_or("");
-            field
+            let v = field
                 .parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())
@@ -105,7 +105,17 @@ pub fn parse_positions(text: &str, name: &str) -> Result<PositionsFile, Position
                         line,
                         format!("column {c}: `{field}` is not a finite number"),
                     )
-                })
+                })?;
+            if v.abs() > monoculus_engine::MAX_MAGNITUDE {
+                return Err(perr(
+                    line,
+                    format!(
+                        "column {c}: `{field}` is larger than {:e} in magnitude (squares could overflow)",
+                        monoculus_engine::MAX_MAGNITUDE
+                    ),
+                ));
+            }
+            Ok(v)
         };
         let z = match zi {
             Some(zi) => get(zi, "z")?,
@@ -137,6 +147,10 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert_eq!(e, "f.csv:3: column y: `abc` is not a finite number");
+        let e = parse_positions("x,y\n1e200,2\n", "f.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("f.csv:2: column x: `1e200`"), "{e}");
         let e = parse_positions("a,b\n1,2\n", "f.csv")
             .unwrap_err()
             .to_string();

@@ -47,14 +47,14 @@ pub enum SweepError {
     #[error(transparent)]
     Results(#[from] ResultsError),
     /// A run could not be built.
-    #[error("cell {cell}, seed {seed}: {source}")]
+    #[error("cell {cell}, seed {seed}: {cause}")]
     Engine {
         /// Cell key.
         cell: String,
         /// Seed.
         seed: u64,
         /// Why.
-        source: EngineError,
+        cause: EngineError,
     },
 }
 
@@ -107,10 +107,10 @@ pub fn run_experiment(
         }
         let cell = &exp.cells[run.cell];
         let result = run_one(cell, run.seed)
-            .map_err(|source| SweepError::Engine {
+            .map_err(|cause| SweepError::Engine {
                 cell: cell.key.clone(),
                 seed: run.seed,
-                source,
+                cause,
             })
             .and_then(|(outcome, ms)| {
                 Ok(results.append(&run_row(exp, cell, run.seed, &outcome, ms))?)

@@ -7,7 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::PlotError;
-use crate::table::Table;
+use crate::table::{Cells, Table};
 
 /// Colours of the algorithms, in order of appearance.
 const PALETTE: [RGBColor; 6] = [
@@ -81,9 +81,13 @@ fn short_label(v: &str) -> String {
 pub fn plot_results(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
     crate::font::ensure()?;
     let runs = Table::read(&dir.join("runs.csv"))?;
-    let (cell_col, seed_col) = (runs.col("cell")?, runs.col("seed")?);
+    runs.require_rows("runs")?;
+    let (cell_col, seed_col) = (runs.col("cell")?, runs.check("seed", Cells::Whole)?);
     let algo = runs.col("algorithm")?;
-    let converged = runs.col("converged")?;
+    let converged = runs.check("converged", Cells::Bool)?;
+    for metric in ["rho", "tau"] {
+        runs.check(metric, Cells::NonNegative)?;
+    }
     let name = runs
         .rows
         .first()

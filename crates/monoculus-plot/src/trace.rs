@@ -8,7 +8,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::PlotError;
-use crate::table::Table;
+use crate::table::{Cells, Table};
 
 /// Draws a figure as `<stem>.png` and `<stem>.svg` in `out`; evaluates to the two paths
 /// or returns the error.
@@ -40,6 +40,7 @@ macro_rules! both {
 pub fn plot_trace(trace: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
     crate::font::ensure()?;
     let t = Table::read(trace)?;
+    t.require_rows("rounds")?;
     let stem = trace
         .file_stem()
         .and_then(|s| s.to_str())
@@ -51,11 +52,20 @@ pub fn plot_trace(trace: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
         "hull_area"
     };
     let series = vec![
-        (measure.replace('_', " "), t.numbers(measure)?),
-        ("diameter".to_string(), t.numbers("diameter")?),
-        ("moving robots".to_string(), t.numbers("moving")?),
+        (
+            measure.replace('_', " "),
+            t.numbers(measure, Cells::NonNegative)?,
+        ),
+        (
+            "diameter".to_string(),
+            t.numbers("diameter", Cells::NonNegative)?,
+        ),
+        (
+            "moving robots".to_string(),
+            t.numbers("moving", Cells::Whole)?,
+        ),
     ];
-    let rounds = t.numbers("round")?;
+    let rounds = t.numbers("round", Cells::Whole)?;
     std::fs::create_dir_all(out).map_err(|e| PlotError::Io {
         path: out.display().to_string(),
         message: e.to_string(),
@@ -68,16 +78,29 @@ pub fn plot_trace(trace: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let positions = trace.with_extension("positions.csv");
     if positions.exists() {
         let p = Table::read(&positions)?;
+        p.require_rows("positions")?;
         let (round, robot, x, y) = (
-            p.numbers("round")?,
-            p.numbers("robot")?,
-            p.numbers("x")?,
-            p.numbers("y")?,
+            p.numbers("round", Cells::Whole)?,
+            p.numbers("robot", Cells::Whole)?,
+            p.numbers("x", Cells::Finite)?,
+            p.numbers("y", Cells::Finite)?,
         );
-        let n = robot.iter().fold(0.0f64, |m, &r| m.max(r)) as usize + 1;
+        // The swarm is the robots of the first round listed; every row names one of them.
+        let n = round.iter().take_while(|&&r| r == round[0]).count();
         let mut paths: Vec<Vec<DVec2>> = vec![Vec::new(); n];
         for i in 0..round.len() {
-            paths[robot[i] as usize].push(DVec2::new(x[i], y[i]));
+            let r = robot[i] as usize;
+            if r >= n {
+                return Err(PlotError::Input {
+                    path: format!("{}:{}", positions.display(), p.lines[i]),
+                    message: format!(
+                        "column robot: {r} is not a robot of the swarm (round {} lists {n}: 0 to {})",
+                        round[0],
+                        n - 1
+                    ),
+                });
+            }
+            paths[r].push(DVec2::new(x[i], y[i]));
         }
         let projected = p.col("z").is_ok();
         let title = format!(

@@ -1,3 +1,5 @@
+use monoculus_experiments::limits::{human, machine_bytes, run_bytes};
+
 use super::{ConfigArgs, Failure};
 
 #[derive(clap::Args, Debug)]
@@ -9,7 +11,7 @@ pub struct CheckArgs {
 pub fn check(args: CheckArgs) -> Result<(), Failure> {
     let exp = args.config.load()?;
     let runs = exp.cells.len() * exp.seeds.len();
-    println!(
+    outln!(
         "{}: {} cells x {} seeds = {} runs",
         exp.name,
         exp.cells.len(),
@@ -18,7 +20,7 @@ pub fn check(args: CheckArgs) -> Result<(), Failure> {
     );
     for cell in &exp.cells {
         let c = cell.sim_config(0);
-        println!(
+        outln!(
             "cell {}: {} | {} {} n={} | stop {} (max_rounds {})",
             cell.index,
             if cell.key.is_empty() { "-" } else { &cell.key },
@@ -29,5 +31,15 @@ pub fn check(args: CheckArgs) -> Result<(), Failure> {
             c.stop.max_rounds
         );
     }
+    let largest = exp.cells.iter().map(|c| c.n()).max().unwrap_or(0) as u64;
+    let per_run = run_bytes(largest);
+    let at_once = rayon::current_num_threads().min(runs).max(1) as u64;
+    let machine =
+        machine_bytes().map_or_else(String::new, |m| format!("; this machine has {}", human(m)));
+    outln!(
+        "memory: about {} per run (n = {largest}), {} with {at_once} runs at once{machine}",
+        human(per_run),
+        human(per_run.saturating_mul(at_once))
+    );
     Ok(())
 }

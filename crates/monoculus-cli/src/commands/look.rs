@@ -53,9 +53,9 @@ pub fn look(args: LookArgs) -> Result<(), Failure> {
         )));
     }
     if file.has_z {
-        print!("{}", look_in::<DVec3>(file.points(), &args));
+        out!("{}", look_in::<DVec3>(file.points(), &args));
     } else {
-        print!("{}", look_in::<DVec2>(file.points(), &args));
+        out!("{}", look_in::<DVec2>(file.points(), &args));
     }
     Ok(())
 }

@@ -72,7 +72,7 @@ fn merge_stress_csv(args: &MergeArgs) -> Result<(), Failure> {
             m.total
         )));
     }
-    println!(
+    outln!(
         "merged {} of {} measurements from {} shard files into {}",
         m.total - m.missing.len(),
         m.total,
@@ -126,7 +126,7 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
             args.dir.display()
         )));
     }
-    println!(
+    outln!(
         "{}: merged {} of {} runs from {} shards into {}{}",
         exp.name,
         report.present,
@@ -139,7 +139,7 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
             String::new()
         }
     );
-    print!(
+    out!(
         "{}",
         super::table::render(&args.dir.join("summary.csv"), super::table::Format::Text)?
     );

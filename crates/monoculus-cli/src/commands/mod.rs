@@ -1,5 +1,20 @@
 //! The subcommands.
 
+/// `println!` that reports a failed write (a closed pipe, a full disk) as a [`Failure`]
+/// instead of panicking; use inside a function returning `Result<_, Failure>`.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::commands::write_stdout(format_args!("{}\n", format_args!($($arg)*)))?
+    };
+}
+
+/// `print!` that reports a failed write as a [`Failure`] (see `outln!`).
+macro_rules! out {
+    ($($arg:tt)*) => {
+        $crate::commands::write_stdout(format_args!($($arg)*))?
+    };
+}
+
 mod check;
 mod look;
 mod merge;
@@ -47,12 +62,24 @@ enum Command {
     Slurm(slurm::SlurmArgs),
 }
 
-/// How a command failed: bad input (exit status 2) or anything else (1).
+/// How a command failed: bad input (exit status 2), standard output gone (a closed pipe:
+/// quiet, 0; anything else: 1), or anything else (1).
 pub enum Failure {
     /// A bad config, CSV or argument: one line naming the file, line and key.
     Input(String),
+    /// Writing to standard output failed.
+    Stdout(std::io::Error),
     /// Anything else.
     Other(anyhow::Error),
+}
+
+/// Writes to standard output, a failure as [`Failure::Stdout`].
+pub fn write_stdout(args: std::fmt::Arguments<'_>) -> Result<(), Failure> {
+    use std::io::Write;
+    std::io::stdout()
+        .lock()
+        .write_fmt(args)
+        .map_err(Failure::Stdout)
 }
 
 impl From<ConfigError> for Failure {
@@ -145,8 +172,13 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure>
         .map_err(|e| Failure::Other(e.into()))
 }
 
-/// Runs a subcommand.
+/// Runs a subcommand, then flushes standard output.
 pub fn dispatch(cli: Cli) -> Result<(), Failure> {
+    run_command(cli)?;
+    std::io::Write::flush(&mut std::io::stdout()).map_err(Failure::Stdout)
+}
+
+fn run_command(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::check(a),

@@ -43,7 +43,7 @@ pub fn plot(args: PlotArgs) -> Result<(), Failure> {
         )));
     };
     for f in &written {
-        println!("{}", f.display());
+        outln!("{}", f.display());
     }
     Ok(())
 }

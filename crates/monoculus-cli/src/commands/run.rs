@@ -77,7 +77,7 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
     }
     match shard {
         None => {
-            println!(
+            outln!(
                 "{}: ran {} runs, {} already done, into {}",
                 exp.name,
                 report.ran,
@@ -86,7 +86,7 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
             );
             print_summary(&out.join("summary.csv"))?;
         }
-        Some(s) => println!(
+        Some(s) => outln!(
             "{}: shard {s}: ran {} runs, {} already done, into {}; when every shard is done: monoculus merge {}",
             exp.name,
             report.ran,
@@ -99,7 +99,7 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
 }
 
 fn print_summary(path: &std::path::Path) -> Result<(), Failure> {
-    print!(
+    out!(
         "{}",
         super::table::render(path, super::table::Format::Text)?
     );

@@ -315,7 +315,7 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
     for (path, text) in [(&array_path, &array), (&merge_path, &merge_script)] {
         monoculus_experiments::results::write_atomic(path, text.as_bytes())?;
     }
-    println!(
+    outln!(
         "wrote {} ({} array tasks) and {}",
         array_path.display(),
         args.shards,
@@ -326,9 +326,9 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
         merge_path.display().to_string(),
     );
     if !args.submit {
-        println!("submit with:");
-        println!("  jid=$(sbatch --parsable {})", quote(&a));
-        println!("  sbatch --dependency=afterok:${{jid%%;*}} {}", quote(&m));
+        outln!("submit with:");
+        outln!("  jid=$(sbatch --parsable {})", quote(&a));
+        outln!("  sbatch --dependency=afterok:${{jid%%;*}} {}", quote(&m));
         return Ok(());
     }
     let array_job = sbatch(&["--parsable", &a])?;
@@ -337,8 +337,8 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
         &format!("--dependency=afterok:{array_job}"),
         &m,
     ])?;
-    println!("array_job={array_job}");
-    println!("merge_job={merge_job}");
+    outln!("array_job={array_job}");
+    outln!("merge_job={merge_job}");
     Ok(())
 }
 

@@ -30,9 +30,6 @@ impl Shape {
     }
 }
 
-/// The most robots `stress` builds (about 2.5 GB at 10^7; beyond, ask for it in a config).
-const MAX_STRESS_N: usize = 100_000_000;
-
 #[derive(clap::Args, Debug)]
 pub struct StressArgs {
     /// Number of robots; a list (`--n 10000,100000`) measures each.
@@ -91,10 +88,9 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
     if args.n.contains(&0) || args.rounds == 0 {
         return Err(Failure::Input("--n and --rounds must be at least 1".into()));
     }
-    if let Some(&n) = args.n.iter().find(|&&n| n > MAX_STRESS_N) {
-        return Err(Failure::Input(format!(
-            "--n {n}: at most {MAX_STRESS_N} robots"
-        )));
+    for &n in &args.n {
+        monoculus_experiments::limits::check_robots(n as u64)
+            .map_err(|m| Failure::Input(format!("--n {n}: {m}")))?;
     }
     let kind = AlgorithmKind::ALL
         .into_iter()
@@ -233,7 +229,7 @@ fn measure(
         let dt = t.elapsed().as_secs_f64();
         times.push(dt);
         row.activations += activated;
-        println!("round {round}: {dt:.3} s, {activated} activations, {moving} moved");
+        outln!("round {round}: {dt:.3} s, {activated} activations, {moving} moved");
     }
     row.total_s = times.iter().sum();
     row.round_s_min = times.iter().copied().fold(f64::INFINITY, f64::min);
@@ -241,15 +237,15 @@ fn measure(
     row.round_s_median = quantile(&times, 0.5);
     row.activations_per_s = row.activations as f64 / row.total_s;
     row.peak_memory_mb = peak_rss_mb().map(|m| m.round());
-    println!(
+    outln!(
         "rounds={} total_s={:.3} mean_round_s={:.4}",
         row.rounds,
         row.total_s,
         row.total_s / row.rounds as f64
     );
     if let Some(mb) = row.peak_memory_mb {
-        println!("peak_memory_mb={mb:.0}");
+        outln!("peak_memory_mb={mb:.0}");
     }
-    println!("activations_per_s={:.0}", row.activations_per_s);
+    outln!("activations_per_s={:.0}", row.activations_per_s);
     Ok(())
 }

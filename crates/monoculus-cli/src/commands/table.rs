@@ -36,9 +36,9 @@ pub fn table(args: TableArgs) -> Result<(), Failure> {
             )));
         }
         if args.format == Format::Markdown {
-            println!("**{}**\n", dir.display());
+            outln!("**{}**\n", dir.display());
         }
-        println!("{}", render_with(&path, args.format, args.hull)?);
+        outln!("{}", render_with(&path, args.format, args.hull)?);
     }
     Ok(())
 }
@@ -78,6 +78,35 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
         .collect::<Result<_, _>>()?;
     let records: Vec<csv::StringRecord> =
         reader.records().collect::<Result<_, _>>().map_err(bad)?;
+    if records.is_empty() {
+        return Err(Failure::Input(format!(
+            "{}: holds no cells (only a header)",
+            path.display()
+        )));
+    }
+    for r in &records {
+        let line = r.position().map_or(0, |p| p.line());
+        for (&c, name) in stat_idx.iter().zip(SUMMARY_COLUMNS) {
+            let v = &r[c];
+            let whole = matches!(name, "runs" | "converged" | "hull_grew_runs");
+            let good = if whole {
+                v.parse::<u64>().is_ok()
+            } else {
+                v.parse::<f64>().is_ok_and(|x| x.is_nan() || x >= 0.0)
+            };
+            if !good {
+                return Err(Failure::Input(format!(
+                    "{}:{line}: column {name}: `{v}` is not {}",
+                    path.display(),
+                    if whole {
+                        "a whole number >= 0"
+                    } else {
+                        "a number >= 0 (or NaN)"
+                    }
+                )));
+            }
+        }
+    }
     // Parameter columns: algorithm, n and side always; the others only where they vary.
     let first_stat = stat_idx[0];
     let params: Vec<usize> = (0..first_stat)

@@ -52,7 +52,7 @@ pub fn trace(args: TraceArgs) -> Result<(), Failure> {
         3 => trace_in::<DVec3>(cell, &args),
         _ => trace_in::<DVec2>(cell, &args),
     })?;
-    println!(
+    outln!(
         "rounds={} converged={} moves={} final_diameter={} hull_growth_rounds={}",
         outcome.rounds,
         outcome.converged,

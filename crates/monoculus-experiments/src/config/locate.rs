@@ -49,6 +49,40 @@ pub fn line_of(source: &str, path: &str) -> Option<usize> {
     })
 }
 
+/// The dotted key set on 1-based `line` (`swarm.n` for `n = 3` under `[swarm]`), if the
+/// line sets one.
+pub fn key_at_line(source: &str, line: usize) -> Option<String> {
+    let mut table: Vec<String> = Vec::new();
+    for (no, raw) in source.lines().enumerate() {
+        let l = raw.trim();
+        if no + 1 == line {
+            let (key, _) = l.split_once('=')?;
+            if l.starts_with('#') || l.starts_with('[') {
+                return None;
+            }
+            let mut full = table;
+            full.extend(
+                key.split('.')
+                    .map(|s| s.trim().trim_matches('"').to_string()),
+            );
+            return Some(full.join("."));
+        }
+        if l.starts_with('[') && !l.starts_with("[[") {
+            let name = l
+                .trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim();
+            table = name
+                .split('.')
+                .map(|s| s.trim().trim_matches('"').to_string())
+                .collect();
+        }
+    }
+    None
+}
+
 /// The 1-based line of byte offset `offset`.
 pub fn line_of_offset(source: &str, offset: usize) -> usize {
     source[..offset.min(source.len())].matches('\n').count() + 1
@@ -68,5 +102,8 @@ mod tests {
         assert_eq!(line_of(src, "algorithm.step"), Some(6));
         assert_eq!(line_of(src, "swarm"), Some(3));
         assert_eq!(line_of(src, "stop.max_rounds"), None);
+        assert_eq!(key_at_line(src, 4).as_deref(), Some("swarm.n"));
+        assert_eq!(key_at_line(src, 1).as_deref(), Some("name"));
+        assert_eq!(key_at_line(src, 3), None);
     }
 }

@@ -15,11 +15,11 @@ use monoculus_core::geometry::Point;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::VisionParams;
 use monoculus_engine::{
-    AsyncSpec, AsyncStart, SchedulerSpec, SequentialOrder, SightBackend, SimConfig, StopCriterion,
-    StopSpec, TickDist,
+    AsyncSpec, AsyncStart, MAX_MAGNITUDE, SchedulerSpec, SequentialOrder, SightBackend, SimConfig,
+    StopCriterion, StopSpec, TickDist,
 };
 
-pub use locate::{line_of, line_of_offset};
+pub use locate::{key_at_line, line_of, line_of_offset};
 pub use spec::*;
 
 use crate::positions::{PositionsFile, read_positions};
@@ -118,11 +118,15 @@ struct Source<'a> {
 impl Source<'_> {
     fn error(&self, key: &str, message: impl Into<String>) -> ConfigError {
         let message = message.into();
-        if self
-            .overridden
-            .iter()
-            .any(|o| key == o || key.starts_with(&format!("{o}.")))
-        {
+        // The override's own key, a key inside it, or a table the config does not have
+        // that only the override names (`--set bogus.x=5`).
+        if self.overridden.iter().any(|o| {
+            key == o
+                || key.starts_with(&format!("{o}."))
+                || (!key.is_empty()
+                    && o.starts_with(&format!("{key}."))
+                    && line_of(self.text, key).is_none())
+        }) {
             return ConfigError {
                 file: "--set".into(),
                 line: None,
@@ -271,11 +275,24 @@ impl Experiment {
         base: &Path,
         overrides: &[String],
     ) -> Result<Experiment, ConfigError> {
-        let mut table: toml::Table = toml::from_str(text).map_err(|e| ConfigError {
-            file: label.to_string(),
-            line: e.span().map(|s| line_of_offset(text, s.start)),
-            key: None,
-            message: e.message().trim().to_string(),
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| {
+            let line = e.span().map(|s| line_of_offset(text, s.start));
+            let mut message = e.message().trim().to_string();
+            if message.contains("as i128") || message.contains("number too large") {
+                message = "integer too large: TOML integers are 64-bit".into();
+            }
+            if message == "duplicate key"
+                && let Some(span) = e.span()
+                && let Some(k) = text.get(span)
+            {
+                message = format!("duplicate key `{}`", k.trim().trim_matches('"'));
+            }
+            ConfigError {
+                file: label.to_string(),
+                line,
+                key: line.and_then(|l| key_at_line(text, l)),
+                message,
+            }
         })?;
         let mut src = Source {
             label: label.to_string(),
@@ -293,7 +310,32 @@ impl Experiment {
                 "empty list: a swept key needs at least one value",
             ));
         }
-        let count: usize = axes.iter().map(|a| a.values.len()).product();
+        if let Some(name) = axes.iter().find(|a| a.path == "name") {
+            return Err(src.error(&name.path, "one plain name for the experiment, not a list"));
+        }
+        for axis in &axes {
+            for (k, v) in axis.values.iter().enumerate() {
+                if axis.values[..k].contains(v) {
+                    return Err(src.error(
+                        &axis.path,
+                        format!("the list has {} twice: every cell must differ", render(v)),
+                    ));
+                }
+            }
+        }
+        let count = axes
+            .iter()
+            .try_fold(1usize, |c, a| c.checked_mul(a.values.len()))
+            .filter(|&c| c <= crate::limits::MAX_CELLS)
+            .ok_or_else(|| {
+                src.error(
+                    &axes[0].path,
+                    format!(
+                        "the sweep has more than {} cells (the product of the lists' lengths)",
+                        crate::limits::MAX_CELLS
+                    ),
+                )
+            })?;
         let mut cells = Vec::with_capacity(count);
         let mut warnings = Vec::new();
         let mut files: HashMap<PathBuf, PositionsFile> = HashMap::new();
@@ -326,6 +368,19 @@ impl Experiment {
             });
         }
         let first = &cells[0].spec;
+        let seed_count = match &first.seeds {
+            Seeds::Count(c) => *c,
+            Seeds::List(v) => v.len() as u64,
+        };
+        if seed_count.saturating_mul(count as u64) > crate::limits::MAX_RUNS {
+            return Err(src.error(
+                "seeds",
+                format!(
+                    "{seed_count} seeds x {count} cells: at most {} runs in one experiment",
+                    crate::limits::MAX_RUNS
+                ),
+            ));
+        }
         let seeds = first.seeds.to_vec();
         let mut resolved = toml::Table::try_from(first).expect("a RunSpec serialises");
         for axis in &axes {
@@ -371,6 +426,50 @@ impl Experiment {
     }
 }
 
+/// A number as a person writes it: plain, or with an exponent when very large or small.
+fn show(x: f64) -> String {
+    if x != 0.0 && !(1e-6..1e16).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// What is wrong with a length: not positive (not negative, with `zero_ok`), or so large
+/// that its square could overflow.
+fn bounded(x: f64, zero_ok: bool) -> Option<String> {
+    if !(x > 0.0 || zero_ok && x == 0.0) {
+        let what = if zero_ok { "non-negative" } else { "positive" };
+        Some(format!("must be {what}, got {}", show(x)))
+    } else if !(x <= MAX_MAGNITUDE) {
+        Some(format!(
+            "must be at most {MAX_MAGNITUDE:e} (so that squares cannot overflow), got {}",
+            show(x)
+        ))
+    } else {
+        None
+    }
+}
+
+/// Why `name` cannot name a results folder (`results/<name>`), if it cannot: it must be a
+/// plain file name.
+fn name_problem(name: &str) -> Option<String> {
+    let problem = if name.is_empty() {
+        "is empty"
+    } else if name == "." || name == ".." || name.contains(['/', '\\']) {
+        "names a path; it must be a plain file name (the default results folder is results/<name>)"
+    } else if name.starts_with('.') {
+        "starts with a dot; it must be a plain, visible file name"
+    } else if name.chars().any(char::is_control) {
+        "contains a control character"
+    } else if name.len() > 200 {
+        "is longer than 200 bytes"
+    } else {
+        return None;
+    };
+    Some(format!("{name:?} {problem}"))
+}
+
 fn validate(
     spec: &RunSpec,
     src: &Source<'_>,
@@ -382,7 +481,19 @@ fn validate(
     match &spec.seeds {
         Seeds::Count(0) => return err("seeds", "must be at least 1".into()),
         Seeds::List(v) if v.is_empty() => return err("seeds", "the list of seeds is empty".into()),
+        Seeds::List(v) => {
+            let mut seen = std::collections::HashSet::new();
+            if let Some(d) = v.iter().find(|s| !seen.insert(**s)) {
+                return err(
+                    "seeds",
+                    format!("seed {d} is listed twice: every run must differ"),
+                );
+            }
+        }
         _ => {}
+    }
+    if let Some(problem) = name_problem(&spec.name) {
+        return err("name", problem);
     }
     let s = &spec.swarm;
     if s.dim == 3
@@ -402,16 +513,14 @@ fn validate(
     if s.dim != 2 && s.dim != 3 {
         return err("swarm.dim", format!("must be 2 or 3, got {}", s.dim));
     }
-    if !(s.side > 0.0 && s.side.is_finite()) {
-        return err("swarm.side", format!("must be positive, got {}", s.side));
+    if let Some(m) = bounded(s.side, false) {
+        return err("swarm.side", m);
     }
     if s.clusters == 0 {
         return err("swarm.clusters", "must be at least 1".into());
     }
-    if let Some(sp) = s.spread
-        && !(sp >= 0.0 && sp.is_finite())
-    {
-        return err("swarm.spread", format!("must be non-negative, got {sp}"));
+    if let Some(m) = s.spread.and_then(|sp| bounded(sp, true)) {
+        return err("swarm.spread", m);
     }
     let mut file_positions = None;
     if s.init == InitKind::File {
@@ -431,6 +540,9 @@ fn validate(
                 p
             }
         };
+        if let Err(m) = crate::limits::check_robots(pts.len() as u64) {
+            return err("swarm.file", m);
+        }
         if s.dim == 3 && !pts.has_z {
             return err(
                 "swarm.file",
@@ -450,21 +562,28 @@ fn validate(
         match s.n {
             None => return err("swarm.n", "missing: the number of robots".into()),
             Some(0) => return err("swarm.n", "must be at least 1".into()),
-            _ => {}
+            Some(n) => {
+                if let Err(m) = crate::limits::check_robots(n as u64) {
+                    return err("swarm.n", m);
+                }
+                if s.init == InitKind::Clusters && s.clusters > n {
+                    return err(
+                        "swarm.clusters",
+                        format!(
+                            "{} clusters for {n} robots: at most one cluster a robot",
+                            s.clusters
+                        ),
+                    );
+                }
+            }
         }
     }
     let a = &spec.algorithm;
-    if !(a.step > 0.0 && a.step.is_finite()) {
-        return err(
-            "algorithm.step",
-            format!("must be positive, got {}", a.step),
-        );
+    if let Some(m) = bounded(a.step, false) {
+        return err("algorithm.step", m);
     }
-    if !(a.locality > 0.0 && a.locality.is_finite()) {
-        return err(
-            "algorithm.locality",
-            format!("must be positive, got {}", a.locality),
-        );
+    if let Some(m) = bounded(a.locality, false) {
+        return err("algorithm.locality", m);
     }
     let kind = a.name;
     if kind.needs_locality_at_least_twice_step() && a.locality < 2.0 * a.step {

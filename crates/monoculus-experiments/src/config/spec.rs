@@ -6,13 +6,65 @@ use monoculus_engine::TickDist;
 use serde::{Deserialize, Serialize};
 
 /// Which seeds every cell runs: `seeds = 100` (0..99) or `seeds = [3, 7]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum Seeds {
     /// Seeds 0..count.
     Count(u64),
     /// These seeds.
     List(Vec<u64>),
+}
+
+const SEEDS_EXPECTED: &str =
+    "a count of seeds (a whole number, at least 1) or a list of seeds (whole numbers, at least 0)";
+
+impl<'de> Deserialize<'de> for Seeds {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Seeds;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(SEEDS_EXPECTED)
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Seeds, E> {
+                Ok(Seeds::Count(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Seeds, E> {
+                u64::try_from(v)
+                    .map(Seeds::Count)
+                    .map_err(|_| E::custom(format!("expected {SEEDS_EXPECTED}, got {v}")))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Seeds, E> {
+                Err(E::custom(format!("expected {SEEDS_EXPECTED}, got {v}")))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Seeds, E> {
+                Err(E::custom(format!("expected {SEEDS_EXPECTED}, got \"{v}\"")))
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<Seeds, E> {
+                Err(E::custom(format!("expected {SEEDS_EXPECTED}, got {v}")))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Seeds, A::Error> {
+                let mut v = Vec::new();
+                let mut k = 0;
+                while let Some(x) = seq.next_element::<toml::Value>()? {
+                    match x.as_integer().and_then(|i| u64::try_from(i).ok()) {
+                        Some(s) => v.push(s),
+                        None => {
+                            return Err(serde::de::Error::custom(format!(
+                                "seed {k} of the list is {x}: seeds are whole numbers, at least 0"
+                            )));
+                        }
+                    }
+                    k += 1;
+                }
+                Ok(Seeds::List(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 impl Default for Seeds {

@@ -11,9 +11,9 @@ use super::ResultsError;
 
 /// An I/O error on `path` (the file the user knows, never a temporary name).
 pub(crate) fn io(path: &Path) -> impl Fn(std::io::Error) -> ResultsError + '_ {
-    move |source| ResultsError::Io {
+    move |cause| ResultsError::Io {
         path: path.display().to_string(),
-        source,
+        cause,
     }
 }
 

@@ -24,12 +24,12 @@ use crate::shard::Shard;
 #[derive(Debug, thiserror::Error)]
 pub enum ResultsError {
     /// Reading or writing failed.
-    #[error("{path}: {source}")]
+    #[error("{path}: {cause}")]
     Io {
         /// The file.
         path: String,
-        /// Why.
-        source: std::io::Error,
+        /// Why (shown in the message, so not a `source` that would print it twice).
+        cause: std::io::Error,
     },
     /// The folder holds results of a different experiment or build.
     #[error("{path}: {message}")]

@@ -1,0 +1,80 @@
+//! What a machine can hold: bounds checked before anything is allocated, so that a huge
+//! `n`, `seeds` or sweep is refused with a message instead of a crash.
+
+/// The most cells one experiment may have (the product of its lists' lengths).
+pub const MAX_CELLS: usize = 1_000_000;
+/// The most runs (cells x seeds) one experiment may have.
+pub const MAX_RUNS: u64 = 100_000_000;
+/// Resident memory per robot of one run, bytes: positions, per-robot state and the
+/// spatial index (measured peaks: about 235 B per robot at 10^6 and 10^7 robots).
+pub const BYTES_PER_ROBOT: u64 = 256;
+/// Resident memory of one run beside its robots, bytes.
+pub const BYTES_PER_RUN: u64 = 16 << 20;
+
+/// The memory one run of `n` robots needs, bytes (saturating).
+pub fn run_bytes(n: u64) -> u64 {
+    n.saturating_mul(BYTES_PER_ROBOT)
+        .saturating_add(BYTES_PER_RUN)
+}
+
+/// This machine's memory (`MemTotal` of /proc/meminfo), bytes, where known.
+pub fn machine_bytes() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// `bytes` for people: 1.5 GB, 230 MB, 12 kB.
+pub fn human(bytes: u64) -> String {
+    let b = bytes as f64;
+    for (unit, size) in [("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)] {
+        if b >= size {
+            return format!("{:.1} {unit}", b / size);
+        }
+    }
+    format!("{bytes} B")
+}
+
+/// Checks that one run of `n` robots fits in this machine's memory (and in the engine's
+/// robot indices); the message says how much it needs and what the machine has.
+pub fn check_robots(n: u64) -> Result<(), String> {
+    if n > monoculus_engine::MAX_ROBOTS as u64 {
+        return Err(format!(
+            "{n} robots: at most {} robots in one run",
+            monoculus_engine::MAX_ROBOTS
+        ));
+    }
+    if let Some(have) = machine_bytes() {
+        let need = run_bytes(n);
+        if need > have {
+            return Err(format!(
+                "{n} robots need about {} for one run; this machine has {}",
+                human(need),
+                human(have)
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn huge_swarms_are_refused_with_the_memory_they_need() {
+        assert!(check_robots(1000).is_ok());
+        let e = check_robots(u64::MAX).unwrap_err();
+        assert!(e.contains("at most"), "{e}");
+        if machine_bytes().is_some() {
+            let e = check_robots(1 << 31).unwrap_err();
+            assert!(
+                e.contains("need about 549.8 GB") && e.contains("this machine has"),
+                "{e}"
+            );
+        }
+        assert_eq!(human(2_300_000_000), "2.3 GB");
+        assert_eq!(run_bytes(u64::MAX), u64::MAX);
+    }
+}
