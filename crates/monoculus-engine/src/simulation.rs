@@ -182,7 +182,7 @@ impl<P: IndexPoint> Simulation<P> {
         }
         if initial
             .iter()
-            .any(|p| (0..P::DIM).any(|k| !(p.axis(k).abs() <= MAX_MAGNITUDE)))
+            .any(|p| (0..P::DIM).any(|k| p.axis(k).is_nan() || p.axis(k).abs() > MAX_MAGNITUDE))
         {
             return Err(EngineError::Invalid(format!(
                 "initial positions must be finite and at most {MAX_MAGNITUDE:e} in magnitude"

@@ -10,4 +10,18 @@ pub mod runner;
 pub mod shard;
 
 pub use config::{Cell, ConfigError, Experiment, RunId};
+
+/// `text` with line breaks and other control characters escaped (`\n`), so that a
+/// message quoting what a user wrote stays one line.
+pub fn one_line(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
 pub use runner::{RunOptions, SweepError, SweepReport, run_experiment, run_one};

@@ -6,7 +6,7 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 pub enum PositionsError {
     /// The file cannot be opened or read.
-    #[error("{path}: cannot read: {cause}")]
+    #[error("{}: cannot read: {cause}", crate::one_line(path))]
     Io {
         /// The file.
         path: String,
@@ -14,7 +14,7 @@ pub enum PositionsError {
         cause: std::io::Error,
     },
     /// A line is malformed.
-    #[error("{path}:{line}: {message}")]
+    #[error("{}:{line}: {}", crate::one_line(path), crate::one_line(message))]
     Parse {
         /// The file.
         path: String,

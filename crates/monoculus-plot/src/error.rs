@@ -4,7 +4,7 @@
 #[derive(Debug, thiserror::Error)]
 pub enum PlotError {
     /// A file could not be read or written.
-    #[error("{path}: {message}")]
+    #[error("{}: {}", one_line(path), one_line(message))]
     Io {
         /// The file.
         path: String,
@@ -12,7 +12,7 @@ pub enum PlotError {
         message: String,
     },
     /// The input lacks what a figure needs.
-    #[error("{path}: {message}")]
+    #[error("{}: {}", one_line(path), one_line(message))]
     Input {
         /// The file.
         path: String,
@@ -20,11 +20,25 @@ pub enum PlotError {
         message: String,
     },
     /// Drawing failed.
-    #[error("drawing {path}: {message}")]
+    #[error("drawing {}: {}", one_line(path), one_line(message))]
     Draw {
         /// The figure.
         path: String,
         /// Why.
         message: String,
     },
+}
+
+/// `text` with control characters escaped, so that a message quoting a file stays one
+/// line.
+fn one_line(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| {
+            if c.is_control() {
+                c.escape_default().collect::<Vec<_>>()
+            } else {
+                vec![c]
+            }
+        })
+        .collect()
 }

@@ -40,14 +40,14 @@ pub struct ConfigError {
 
 impl fmt::Display for ConfigError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.file)?;
+        write!(f, "{}", crate::one_line(&self.file))?;
         if let Some(line) = self.line {
             write!(f, ":{line}")?;
         }
         if let Some(key) = &self.key {
-            write!(f, ": {key}")?;
+            write!(f, ": {}", crate::one_line(key))?;
         }
-        write!(f, ": {}", self.message)
+        write!(f, ": {}", crate::one_line(&self.message))
     }
 }
 
@@ -441,7 +441,7 @@ fn bounded(x: f64, zero_ok: bool) -> Option<String> {
     if !(x > 0.0 || zero_ok && x == 0.0) {
         let what = if zero_ok { "non-negative" } else { "positive" };
         Some(format!("must be {what}, got {}", show(x)))
-    } else if !(x <= MAX_MAGNITUDE) {
+    } else if x.is_nan() || x > MAX_MAGNITUDE {
         Some(format!(
             "must be at most {MAX_MAGNITUDE:e} (so that squares cannot overflow), got {}",
             show(x)

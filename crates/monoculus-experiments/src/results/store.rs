@@ -24,7 +24,7 @@ use crate::shard::Shard;
 #[derive(Debug, thiserror::Error)]
 pub enum ResultsError {
     /// Reading or writing failed.
-    #[error("{path}: {cause}")]
+    #[error("{}: {cause}", crate::one_line(path))]
     Io {
         /// The file.
         path: String,
@@ -32,7 +32,7 @@ pub enum ResultsError {
         cause: std::io::Error,
     },
     /// The folder holds results of a different experiment or build.
-    #[error("{path}: {message}")]
+    #[error("{}: {}", crate::one_line(path), crate::one_line(message))]
     Mismatch {
         /// The file.
         path: String,
@@ -40,7 +40,7 @@ pub enum ResultsError {
         message: String,
     },
     /// A row of a results file is malformed.
-    #[error("{path}:{line}: {message}")]
+    #[error("{}:{line}: {}", crate::one_line(path), crate::one_line(message))]
     Corrupt {
         /// The file.
         path: String,
@@ -137,6 +137,20 @@ fn settle_config(
     Ok(())
 }
 
+/// Removes the temporary files a killed process left in `dir` for files whose name starts
+/// with `prefix` (called with the lock on those files held, so none is in use).
+fn remove_stale_temporaries(dir: &Path, prefix: &str) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if name.starts_with(&format!(".{prefix}")) && name.ends_with(".tmp") {
+            let _ = fs::remove_file(e.path());
+        }
+    }
+}
+
 fn remove_if_present(path: &Path) -> Result<(), ResultsError> {
     match fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(io(path)(e)),
@@ -180,6 +194,7 @@ impl ResultsDir {
         let (rows_path, record_path) = match spec.shard {
             None => {
                 locks.push(lock_folder(dir, LockKind::Exclusive, &who)?);
+                remove_stale_temporaries(dir, "");
                 settle_config(
                     dir,
                     exp,
@@ -235,6 +250,7 @@ impl ResultsDir {
                         }
                     })?,
                 );
+                remove_stale_temporaries(&sd, &s.stem());
                 if spec.force {
                     remove_if_present(&rows)?;
                     remove_if_present(&rows.with_extension("toml"))?;
