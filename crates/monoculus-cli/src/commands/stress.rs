@@ -219,7 +219,7 @@ fn measure(
         row.threads,
         row.setup_s
     );
-    let mut times = Vec::with_capacity(row.rounds as usize);
+    let mut times = Vec::with_capacity(row.rounds.min(1 << 16) as usize);
     for round in 1..=row.rounds {
         let t = Instant::now();
         let (moving, activated) = pool.install(|| {
