@@ -13,10 +13,6 @@ pub struct Robot {
     pub index: u32,
 }
 
-/// Where a robot is.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
-pub struct Position<P: IndexPoint>(pub P);
-
 /// Whether the scheduler activates the robot this round.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Activated(pub bool);

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use crate::asynchrony::{
     self, AsyncClock, AsyncSet, Phase, RobotEntities, START, Timing, duration,
 };
-use crate::components::{Activated, Intent, Memory, Position, Robot, Waiting};
+use crate::components::{Activated, Intent, Memory, Robot, Waiting};
 use crate::resources::{
     Clock, HullVertices, Params, Positions, ScheduleState, Shape, SightBackend, Snapshot,
     SnapshotSight, Tally,
@@ -214,10 +214,9 @@ impl<P: IndexPoint> Simulation<P> {
             generation: 0,
         });
         let has_memory = config.algorithm.kind.has_memory();
-        let robots = initial.iter().enumerate().map(|(i, &p)| {
+        let robots = (0..initial.len()).map(|i| {
             (
                 Robot { index: i as u32 },
-                Position(p),
                 Activated(false),
                 Waiting(0),
                 Intent::<P>(None),

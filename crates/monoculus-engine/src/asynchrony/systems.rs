@@ -6,7 +6,7 @@ use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
 use super::{AsyncClock, AsyncSpec, Phase, RobotEntities, TickDist, Timing};
-use crate::components::{Memory, Position, Robot};
+use crate::components::{Memory, Robot};
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
 use crate::systems::{build_sight, decide_one, realise};
 use crate::{IndexPoint, SchedulerSpec};
@@ -77,17 +77,16 @@ pub fn finish_moves<P: IndexPoint>(
     mut clock: ResMut<AsyncClock>,
     entities: Res<RobotEntities>,
     mut positions: ResMut<Positions<P>>,
-    mut robots: Query<(&mut Timing<P>, &mut Position<P>)>,
+    mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
     for k in 0..clock.due.len() {
         let r = clock.due[k];
-        let (mut timing, mut position) = robots
+        let mut timing = robots
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
         if timing.phase == Phase::Move && timing.until == t {
             if timing.pending.take().is_some() {
-                position.0 = timing.target;
                 positions.points[r as usize] = timing.target;
                 clock.move_ended = true;
                 clock.in_motion -= 1;
@@ -106,14 +105,16 @@ pub fn finish_computes<P: IndexPoint>(
     mut clock: ResMut<AsyncClock>,
     entities: Res<RobotEntities>,
     mut tally: ResMut<Tally>,
-    mut robots: Query<(&mut Timing<P>, &Position<P>)>,
+    positions: Res<Positions<P>>,
+    mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
     for k in 0..clock.due.len() {
         let r = clock.due[k];
-        let (mut timing, position) = robots
+        let mut timing = robots
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
+        let position = positions.points[r as usize];
         if timing.phase != Phase::Compute || timing.until != t {
             continue;
         }
@@ -123,7 +124,7 @@ pub fn finish_computes<P: IndexPoint>(
         timing.phase = Phase::Move;
         timing.since = t;
         timing.until = t + duration(&params, r, timing.cycle, MOVE, spec(&params).motion);
-        timing.target = position.0 + d.unwrap_or(position.0 * 0.0);
+        timing.target = position + d.unwrap_or(position * 0.0);
         timing.pending = d;
         if let Some(d) = d {
             tally.moves += 1;
@@ -169,7 +170,6 @@ fn decide_all<P: IndexPoint, S: Sight<P>>(
 /// What the Look system reads and writes of each robot.
 type LookerData<P> = (
     &'static Robot,
-    &'static Position<P>,
     &'static mut Timing<P>,
     Option<&'static mut Memory>,
 );
@@ -189,7 +189,7 @@ pub fn look<P: IndexPoint>(
         .iter()
         .copied()
         .filter(|&r| {
-            let (_, _, timing, _) = robots.get(entities.0[r as usize]).expect("robot entity");
+            let (_, timing, _) = robots.get(entities.0[r as usize]).expect("robot entity");
             timing.phase == Phase::Idle && timing.until == t
         })
         .collect();
@@ -201,12 +201,12 @@ pub fn look<P: IndexPoint>(
         &positions.points,
         robots
             .iter()
-            .map(|(r, p, timing, _)| (r.index, p.0, *timing)),
+            .map(|(r, timing, _)| (r.index, positions.points[r.index as usize], *timing)),
     );
     let inputs: Vec<(u32, u64, Option<RobotMemory>)> = lookers
         .iter()
         .map(|&r| {
-            let (_, _, timing, memory) = robots.get(entities.0[r as usize]).expect("robot entity");
+            let (_, timing, memory) = robots.get(entities.0[r as usize]).expect("robot entity");
             (r, timing.cycle, memory.map(|m| m.0))
         })
         .collect();
@@ -215,7 +215,7 @@ pub fn look<P: IndexPoint>(
         SnapshotSight::Exact(s) => decide_all(&params, &s, &inputs),
     };
     for (&r, (d, memory)) in lookers.iter().zip(outputs) {
-        let (_, _, mut timing, stored) = robots
+        let (_, mut timing, stored) = robots
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
         if let (Some(mut stored), Some(m)) = (stored, memory) {
@@ -264,12 +264,16 @@ pub fn account<P: IndexPoint>(
     positions: Res<Positions<P>>,
     mut shape: ResMut<Shape>,
     mut tally: ResMut<Tally>,
-    robots: Query<(&Robot, &Position<P>, &Timing<P>)>,
+    robots: Query<(&Robot, &Timing<P>)>,
 ) {
     clock.account();
     if clock.move_ended || clock.move_decided {
         let committed =
-            P::hull_measure(&committed_points(robots.iter().map(|(_, p, t)| (p.0, *t))));
+            P::hull_measure(&committed_points(
+                robots
+                    .iter()
+                    .map(|(r, t)| (positions.points[r.index as usize], *t)),
+            ));
         if committed > clock.committed_hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12
         {
             tally.committed_hull_growth += 1;
@@ -282,7 +286,9 @@ pub fn account<P: IndexPoint>(
     let now = positions_now(
         clock.tick,
         &positions.points,
-        robots.iter().map(|(r, p, timing)| (r.index, p.0, *timing)),
+        robots
+            .iter()
+            .map(|(r, timing)| (r.index, positions.points[r.index as usize], *timing)),
     );
     let mut measured = Shape::of(&now);
     if measured.hull > shape.hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12 {
