@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Reruns the paper's experiments (finished runs are kept; pass --force to start over),
 # writes every figure next to the results (results/<...>/figures/*.png|svg), traces a
-# ConvergeLocality run and the Figure 1 scenario, and copies the README's figures to
+# ConvergeLocality run and the Figure 1 scenario, and copies the figures the docs show to
 # docs/figures/.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Measures every scale target of the README's Performance section once and prints the
+# Measures every scale target of docs/performance.md once and prints the
 # table (markdown) on stdout: `scripts/performance.sh [REPEATS]` (default 3: rounds are
 # the best of REPEATS stress runs; whole runs are timed once). About 2 to 3 minutes on
 # 2 cores, with numpy's 12 s if numpy is installed (`pip install numpy`).

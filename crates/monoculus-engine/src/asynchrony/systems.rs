@@ -268,12 +268,11 @@ pub fn account<P: IndexPoint>(
 ) {
     clock.account();
     if clock.move_ended || clock.move_decided {
-        let committed =
-            P::hull_measure(&committed_points(
-                robots
-                    .iter()
-                    .map(|(r, t)| (positions.points[r.index as usize], *t)),
-            ));
+        let committed = P::hull_measure(&committed_points(
+            robots
+                .iter()
+                .map(|(r, t)| (positions.points[r.index as usize], *t)),
+        ));
         if committed > clock.committed_hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12
         {
             tally.committed_hull_growth += 1;

@@ -1,6 +1,6 @@
 //! The spatial index answering the engine's visibility questions: a band grid for lines
-//! of sight in the plane ([`SegmentGrid`]; measured faster than rstar there, see the
-//! README's Performance section), an rstar R-tree in space.
+//! of sight in the plane ([`SegmentGrid`]; measured faster than rstar there, see
+//! docs/performance.md), an rstar R-tree in space.
 
 mod index_point;
 mod indexed_sight;

@@ -410,7 +410,7 @@ impl SegmentGrid {
     }
 
     /// [`Self::walk`] compiled for AVX2: the line filter tests eight robots per
-    /// instruction instead of four (measured: see the README's Performance section).
+    /// instruction instead of four (measured: see docs/performance.md).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn blocked_avx2<P: IndexPoint>(

@@ -1,0 +1,109 @@
+//! The front door: the README stays short, every page of `docs/` is reachable from it,
+//! and no link in the README or the docs points to a file (or a heading) that is not
+//! there, or outside the repository.
+
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The relative links of a Markdown text: (target, anchor).
+fn links(text: &str) -> Vec<(String, Option<String>)> {
+    let mut out = Vec::new();
+    for (k, _) in text.match_indices("](") {
+        let rest = &text[k + 2..];
+        let Some(end) = rest.find(')') else { continue };
+        let target = &rest[..end];
+        if target.starts_with("http") || target.contains(' ') {
+            continue;
+        }
+        let (file, anchor) = match target.split_once('#') {
+            Some((f, a)) => (f.to_string(), Some(a.to_string())),
+            None => (target.to_string(), None),
+        };
+        out.push((file, anchor));
+    }
+    out
+}
+
+/// GitHub's anchors of a page's headings.
+fn anchors(text: &str) -> HashSet<String> {
+    text.lines()
+        .filter(|l| l.starts_with('#'))
+        .map(|l| {
+            l.trim_start_matches('#')
+                .trim()
+                .to_lowercase()
+                .chars()
+                .filter(|c| c.is_alphanumeric() || *c == ' ' || *c == '-' || *c == '_')
+                .map(|c| if c == ' ' { '-' } else { c })
+                .collect()
+        })
+        .collect()
+}
+
+fn pages() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn the_readme_is_short_and_reaches_every_page() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    assert!(
+        readme.lines().count() <= 150,
+        "README.md has {} lines",
+        readme.lines().count()
+    );
+    assert!(
+        !readme.contains("SPEC.md"),
+        "the README sends no one outside the repository"
+    );
+    let linked: HashSet<String> = links(&readme).into_iter().map(|(f, _)| f).collect();
+    for page in pages() {
+        let rel = format!("docs/{}", page.file_name().unwrap().to_string_lossy());
+        assert!(linked.contains(&rel), "{rel} is not linked from README.md");
+    }
+}
+
+#[test]
+fn every_link_resolves() {
+    let mut files = vec![root().join("README.md")];
+    files.extend(pages());
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let dir = file.parent().unwrap();
+        for (target, anchor) in links(&text) {
+            let path = if target.is_empty() {
+                file.clone()
+            } else {
+                dir.join(&target)
+            };
+            let canonical = path
+                .canonicalize()
+                .unwrap_or_else(|_| panic!("{}: link to {target}: no such file", file.display()));
+            assert!(
+                canonical.starts_with(root().canonicalize().unwrap()),
+                "{}: {target} is outside the repository",
+                file.display()
+            );
+            if let Some(a) = anchor
+                && target.ends_with(".md") | target.is_empty()
+            {
+                let page = std::fs::read_to_string(&canonical).unwrap();
+                assert!(
+                    anchors(&page).contains(&a),
+                    "{}: link to {target}#{a}: no such heading",
+                    file.display()
+                );
+            }
+        }
+    }
+}
