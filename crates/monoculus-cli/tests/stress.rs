@@ -35,7 +35,22 @@ fn stress_reports_rounds_memory_and_throughput_last() {
             .expect("last line")
             .parse()
             .unwrap();
-        assert!(rate > 0.0);
+        // The rate is the activations (2 rounds of 2000) over the total the report gives.
+        let total: f64 = text
+            .split("total_s=")
+            .nth(1)
+            .and_then(|s| s.split_whitespace().next())
+            .and_then(|s| s.parse().ok())
+            .expect("total_s=");
+        // total_s is printed to the millisecond.
+        let (lo, hi) = (
+            4000.0 / (total + 0.0005),
+            4000.0 / (total - 0.0005).max(1e-9),
+        );
+        assert!(
+            lo - 1.0 <= rate && rate <= hi + 1.0,
+            "{rate} outside [{lo}, {hi}]: {text}"
+        );
         assert!(
             text.contains("2000 activations"),
             "FSYNC activates everybody: {text}"

@@ -1,6 +1,7 @@
 //! The monoculus engine: robots are `bevy_ecs` entities; a round is a `Schedule` of
 //! systems in [`RoundSet`] order (Activate, Look, Compute, Move, Measure); the Look is
-//! an immutable snapshot with an rstar R-tree ([`IndexedSight`]) that answers the
+//! an immutable snapshot with a spatial index ([`IndexedSight`]: a band grid in the
+//! plane, an rstar R-tree in space) that answers the
 //! visibility questions of the algorithms; Compute runs over robots in parallel with
 //! rayon. Results do not depend on the number of threads: every random draw comes from
 //! a stream keyed by (seed, robot, round).

@@ -10,7 +10,7 @@ use crate::{IndexPoint, IndexedSight, SchedulerSpec};
 /// How visibility questions are answered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SightBackend {
-    /// The R-tree (the default).
+    /// The spatial index: the band grid in the plane, the R-tree in space (the default).
     #[default]
     Index,
     /// Brute force from the definition: slow, for cross-checking.
@@ -53,7 +53,7 @@ pub struct Positions<P: IndexPoint> {
 
 /// What all robots Look at: one immutable snapshot of the configuration.
 pub enum SnapshotSight<P: IndexPoint> {
-    /// Through the R-tree.
+    /// Through the spatial index.
     Index(IndexedSight<P>),
     /// Brute force.
     Exact(ExactSight<P>),

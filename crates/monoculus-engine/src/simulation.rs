@@ -33,7 +33,7 @@ pub struct SimConfig {
     pub algorithm: AlgorithmParams,
     /// Visibility tolerances.
     pub vision: VisionParams,
-    /// Visibility backend (R-tree or brute force).
+    /// Visibility backend (the spatial index, or brute force).
     pub backend: SightBackend,
     /// Scheduler.
     pub scheduler: SchedulerSpec,
@@ -47,7 +47,7 @@ pub struct SimConfig {
 
 impl SimConfig {
     /// The paper's setting for `kind`: b = 1, c = 2, FSYNC, the default stop criterion
-    /// with a cap of `max_rounds`, the R-tree backend, no errors.
+    /// with a cap of `max_rounds`, the index backend, no errors.
     pub fn paper(
         kind: monoculus_core::algorithms::AlgorithmKind,
         seed: u64,

@@ -123,13 +123,16 @@ fn termination_stops_under_async() {
             seed,
         );
         cfg.stop.max_rounds = 20_000;
-        let out = Simulation::new(
+        let mut sim = Simulation::new(
             with_async(cfg, random_timing(AsyncStart::Together)),
             common::square(20, 8.0, seed),
         )
-        .unwrap()
-        .run();
+        .unwrap();
+        let out = sim.run();
         assert!(out.converged, "seed {seed}: {out:?}");
+        // Stopped means: nobody in mid-move, and nobody would move if it looked now.
+        assert!(sim.is_quiescent(), "seed {seed}: a robot would move");
+        assert!(out.terminated.is_some_and(|t| t <= 20));
     }
 }
 
@@ -175,8 +178,10 @@ fn the_exact_backend_agrees_under_async() {
     }
 }
 
+/// A robot in its Move phase is where its segment says at each tick (the position every
+/// Look of that tick sees it at); idle robots are where they settled.
 #[test]
-fn robots_are_seen_mid_move() {
+fn a_move_is_interpolated_along_its_segment() {
     use monoculus_engine::asynchrony::{Phase, Timing};
     let t = Timing::<glam::DVec2> {
         phase: Phase::Move,
@@ -200,8 +205,13 @@ fn robots_are_seen_mid_move() {
         ..t
     };
     assert_eq!(idle.position_at(glam::DVec2::ZERO, 11), glam::DVec2::ZERO);
-    // In a run with long moves, Looks happen while others are in mid-move, and those
-    // runs differ from runs whose moves take one tick.
+}
+
+/// Looks that see robots in mid-move change the runs: long moves against one-tick moves
+/// (the engine's own check that Looks use the movers' interpolated positions is the unit
+/// test `looks_see_movers_on_their_segments`).
+#[test]
+fn runs_with_long_moves_differ_from_runs_with_one_tick_moves() {
     let slow = AsyncSpec {
         motion: TickDist::Fixed { ticks: 9 },
         ..random_timing(AsyncStart::Random)

@@ -1,4 +1,4 @@
-//! The R-tree engine against the brute-force engine: same decisions, same runs.
+//! The indexed engine (band grid in the plane, R-tree in space) against the brute-force engine: same decisions, same runs.
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! The R-tree path and the angular sweep against the definition (brute force), on
+//! The indexed path (band grid in the plane, R-tree in space) and the angular sweep against the definition (brute force), on
 //! random, lattice, collinear and co-located configurations.
 
 mod common;
@@ -7,7 +7,7 @@ use monoculus_core::prelude::*;
 use monoculus_core::vision::{visible_points_brute, visible_points_sweep_2d};
 
 #[test]
-fn sweep_and_rtree_match_the_definition() {
+fn sweep_and_index_match_the_definition() {
     for seed in 0..4 {
         for (name, pts) in common::zoo(seed) {
             let indexed = monoculus_engine::IndexedSight::new(pts.clone(), VisionParams::default());
@@ -112,7 +112,7 @@ fn a_sight_after_a_few_moves_answers_as_a_fresh_one() {
 }
 
 #[test]
-fn sweep_matches_rtree_on_larger_swarms() {
+fn sweep_matches_the_index_on_larger_swarms() {
     let v = VisionParams::default();
     for (name, pts) in [
         ("random", common::square(2000, 40.0, 5)),

@@ -7,7 +7,7 @@
 //! the centre-of-gravity baseline, which by definition sees positions.
 //!
 //! Random choices ("choose any" in the paper) are made here, by one procedure shared by
-//! every [`Sight`] implementation, so that the R-tree engine and the brute-force oracle
+//! every [`Sight`] implementation, so that the indexed engine and the brute-force oracle
 //! choose the same targets from the same random stream: draw a robot uniformly, keep it
 //! if it passes the algorithm's filter and represents a visible point, else draw again;
 //! after [`REJECTION_DRAWS`] misses, list all eligible points and draw one of them.

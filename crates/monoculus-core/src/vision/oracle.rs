@@ -1,5 +1,5 @@
 //! Exact visibility without an index: the definition (brute force) and the angular
-//! sweep. These are the oracles the R-tree path is tested against.
+//! sweep. These are the oracles the indexed path is tested against.
 
 use glam::DVec2;
 
@@ -117,7 +117,7 @@ pub fn visible_points_sweep_2d(positions: &[DVec2], i: usize, v: &VisionParams) 
 
 /// A [`Sight`] without an index: every question answered from the definition by
 /// scanning all robots. Slow (O(n) per question) and obviously right: the reference
-/// the engine's R-tree index is checked against, also selectable in configs
+/// the engine's spatial index is checked against, also selectable in configs
 /// (`vision.backend = "exact"`) to cross-check a run.
 #[derive(Clone, Debug)]
 pub struct ExactSight<P: Point> {

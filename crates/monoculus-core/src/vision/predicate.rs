@@ -1,6 +1,6 @@
 //! The exact visibility predicate of SPEC section 2, shared by every path.
 //!
-//! All visibility answers (brute force, angular sweep, R-tree) end in these two
+//! All visibility answers (brute force, angular sweep, band grid, R-tree) end in these two
 //! functions, so fast paths differ from the oracle only in which candidates they test,
 //! never in how a candidate is judged.
 

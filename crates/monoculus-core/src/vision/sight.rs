@@ -8,7 +8,7 @@ use crate::geometry::Point;
 /// This trait knows positions; robots never get it. Observations
 /// ([`crate::observe`]) wrap a `Sight` privately and expose only directions and
 /// far/near bits. Implementations: [`super::ExactSight`] (brute force, the
-/// definition) and the engine's R-tree index. Both must give the same answers; only
+/// definition) and the engine's spatial index. Both must give the same answers; only
 /// their cost differs.
 pub trait Sight<P: Point>: Sync {
     /// Positions of all robots, indexed by robot.

@@ -273,8 +273,7 @@ pub fn account<P: IndexPoint>(
                 .iter()
                 .map(|(r, t)| (positions.points[r.index as usize], *t)),
         ));
-        if committed > clock.committed_hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12
-        {
+        if crate::systems::hull_grew(clock.committed_hull, committed) {
             tally.committed_hull_growth += 1;
         }
         clock.committed_hull = committed;
@@ -290,10 +289,44 @@ pub fn account<P: IndexPoint>(
             .map(|(r, timing)| (r.index, positions.points[r.index as usize], *timing)),
     );
     let mut measured = Shape::of(&now);
-    if measured.hull > shape.hull * (1.0 + crate::systems::HULL_GROWTH_TOLERANCE) + 1e-12 {
-        tally.hull_growth_rounds += 1;
-        tally.hull_growth_max = tally.hull_growth_max.max(measured.hull / shape.hull - 1.0);
-    }
-    measured.hull_max = shape.hull_max.max(measured.hull);
+    crate::systems::record_hull(&mut tally, &shape, &mut measured);
     *shape = measured;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    #[test]
+    fn looks_see_movers_on_their_segments() {
+        let settled = vec![DVec2::ZERO, DVec2::new(5.0, 0.0), DVec2::new(0.0, 5.0)];
+        let idle = Timing {
+            phase: Phase::Idle,
+            since: 0,
+            until: 20,
+            cycle: 0,
+            looked: 0,
+            pending: None,
+            target: settled[0],
+        };
+        let moving = Timing {
+            phase: Phase::Move,
+            since: 10,
+            until: 14,
+            cycle: 1,
+            looked: 8,
+            pending: Some(DVec2::new(-4.0, 0.0)),
+            target: DVec2::new(1.0, 0.0),
+        };
+        let robots = [
+            (0, settled[0], idle),
+            (1, settled[1], moving),
+            (2, settled[2], idle),
+        ];
+        let now = positions_now(12, &settled, robots.into_iter());
+        assert_eq!(now, vec![settled[0], DVec2::new(3.0, 0.0), settled[2]]);
+        let at_end = positions_now(14, &settled, robots.into_iter());
+        assert_eq!(at_end[1], DVec2::new(1.0, 0.0));
+    }
 }

@@ -3,7 +3,8 @@
 use glam::{DVec2, DVec3};
 use monoculus_core::geometry::HullGeometry;
 
-/// A [`HullGeometry`] point that the R-tree can store (d = 2 and 3).
+/// A [`HullGeometry`] point that the spatial index can store (d = 2: the band grid; d = 3:
+/// the R-tree).
 pub trait IndexPoint: HullGeometry {
     /// rstar's point type of the same dimension.
     type Array: rstar::Point<Scalar = f64> + Copy + Send + Sync;

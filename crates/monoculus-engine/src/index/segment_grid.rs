@@ -399,7 +399,8 @@ impl SegmentGrid {
     ) -> bool {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above), all `blocked_avx2` needs.
+            // SAFETY: the CPU has AVX2 (checked just above), all `blocked_avx2` needs. One
+            // of the workspace's two unsafe blocks (the other: `prefetch`).
             #[allow(
                 unsafe_code,
                 reason = "calling code compiled for a detected CPU feature"
@@ -800,8 +801,9 @@ impl<P: Point> Iterator for Nearest<'_, P> {
 #[inline(always)]
 pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(target_arch = "x86_64")]
-    // SAFETY: prefetching is a hint that never faults, here on a valid reference. The
-    // only unsafe block of the workspace (`unsafe_code = "deny"` elsewhere).
+    // SAFETY: prefetching is a hint that never faults, here on a valid reference. One of
+    // the workspace's two unsafe blocks (the other calls the AVX2 walk once the CPU is
+    // known to have it); `unsafe_code = "deny"` everywhere else.
     #[allow(
         unsafe_code,
         unused_unsafe,

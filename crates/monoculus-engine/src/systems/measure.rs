@@ -8,6 +8,23 @@ use crate::resources::{Clock, HullVertices, Positions, Shape, Tally};
 /// by rounding.
 pub const HULL_GROWTH_TOLERANCE: f64 = 1e-9;
 
+/// Whether a hull of size `now` grew from one of size `before`: the one rule every
+/// scheduler counts hull growth by (relative tolerance [`HULL_GROWTH_TOLERANCE`], and
+/// an absolute 1e-12 for hulls of no area).
+pub fn hull_grew(before: f64, now: f64) -> bool {
+    now > before * (1.0 + HULL_GROWTH_TOLERANCE) + 1e-12
+}
+
+/// Counts one round (ASYNC: tick) in which the hull of the positions went from `shape`'s
+/// to `measured`'s, and keeps the largest hull so far.
+pub fn record_hull(tally: &mut Tally, shape: &Shape, measured: &mut Shape) {
+    if hull_grew(shape.hull, measured.hull) {
+        tally.hull_growth_rounds += 1;
+        tally.hull_growth_max = tally.hull_growth_max.max(measured.hull / shape.hull - 1.0);
+    }
+    measured.hull_max = shape.hull_max.max(measured.hull);
+}
+
 /// Measures the configuration after the moves: hull size, diameter, extents; counts the
 /// round if the hull grew.
 pub fn measure_shape<P: IndexPoint>(
@@ -28,11 +45,7 @@ pub fn measure_shape<P: IndexPoint>(
         &hull.0
     };
     let mut measured = Shape::of(basis);
-    if measured.hull > shape.hull * (1.0 + HULL_GROWTH_TOLERANCE) + 1e-12 {
-        tally.hull_growth_rounds += 1;
-        tally.hull_growth_max = tally.hull_growth_max.max(measured.hull / shape.hull - 1.0);
-    }
-    measured.hull_max = shape.hull_max.max(measured.hull);
+    record_hull(&mut tally, &shape, &mut measured);
     *shape = measured;
 }
 
@@ -59,7 +72,7 @@ pub fn measure_committed<P: IndexPoint>(
         return;
     }
     pts.extend_from_slice(&positions.points);
-    if P::hull_measure(&pts) > shape.hull * (1.0 + HULL_GROWTH_TOLERANCE) + 1e-12 {
+    if hull_grew(shape.hull, P::hull_measure(&pts)) {
         tally.committed_hull_growth += 1;
     }
 }

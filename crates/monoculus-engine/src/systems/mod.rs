@@ -13,7 +13,9 @@ use bevy_ecs::prelude::*;
 pub use activate::activate_robots;
 pub use compute::{compute_intents, decide_one, realise};
 pub use look::{build_sight, refresh_snapshot, take_snapshot};
-pub use measure::{HULL_GROWTH_TOLERANCE, advance_clock, measure_committed, measure_shape};
+pub use measure::{
+    HULL_GROWTH_TOLERANCE, advance_clock, hull_grew, measure_committed, measure_shape, record_hull,
+};
 pub use movement::apply_moves;
 
 /// The phases of a round, run in this order.
@@ -21,7 +23,7 @@ pub use movement::apply_moves;
 pub enum RoundSet {
     /// The scheduler marks the robots that act this round.
     Activate,
-    /// The Look: one immutable snapshot of the configuration (and its R-tree).
+    /// The Look: one immutable snapshot of the configuration (and its spatial index).
     Look,
     /// Every activated robot computes its move against the snapshot, in parallel.
     Compute,

@@ -194,7 +194,7 @@ pub struct AlgorithmSpec {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BackendName {
-    /// R-tree.
+    /// The spatial index: band grid in the plane, R-tree in space.
     #[default]
     Index,
     /// Brute force, for cross-checking.
@@ -218,7 +218,7 @@ pub struct VisionSpec {
     /// OLA side tolerance. Default 1e-9 * step.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub eps_axis: Option<f64>,
-    /// `index` (R-tree, default) or `exact` (brute force).
+    /// `index` (band grid in the plane, R-tree in space; default) or `exact` (brute force).
     #[serde(default)]
     pub backend: BackendName,
 }
