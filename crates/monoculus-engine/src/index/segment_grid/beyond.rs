@@ -1,0 +1,53 @@
+//! The robots beyond a radius of a point (for ConvergeLocality's far targets).
+
+use monoculus_core::geometry::Point;
+
+use super::SegmentGrid;
+
+impl SegmentGrid {
+    /// Calls `f` with every robot farther than `radius` from robot `i`: per band, the
+    /// cells wholly within the disc are skipped. O(bands + robots beyond + boundary).
+    pub fn for_each_beyond<P: Point>(
+        &self,
+        positions: &[P],
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    ) {
+        let p = positions[i];
+        let (x, y) = (p.axis(0), p.axis(1));
+        let g = &self.rows;
+        // Room for the rounding of cell edges and of robots' cells.
+        let room = 1e-9 * (x.abs() + y.abs() + self.spacing);
+        let mut emit = |range: std::ops::Range<usize>| {
+            for s in range {
+                let k = g.items[s] as usize;
+                if (positions[k] - p).length() > radius {
+                    f(k);
+                }
+            }
+        };
+        for r in 0..g.bands {
+            let (_, y0) = g.corner(0, r);
+            let dy = (y - y0).abs().max((y0 + g.height - y).abs()) + room;
+            // The band's robots within `inner` of x on the run axis are within the disc.
+            let inner = if dy < radius {
+                (radius * radius - dy * dy).sqrt() * (1.0 - 1e-9) - room
+            } else {
+                -1.0
+            };
+            let last = g.cells - 1;
+            if inner <= 0.0 {
+                emit(g.cells_range(r, 0, last));
+                continue;
+            }
+            let (ca, cb) = (g.cell(x - inner), g.cell(x + inner));
+            if cb <= ca + 1 {
+                emit(g.cells_range(r, 0, last));
+            } else {
+                emit(g.cells_range(r, 0, ca));
+                emit(g.cells_range(r, cb, last));
+            }
+        }
+    }
+}

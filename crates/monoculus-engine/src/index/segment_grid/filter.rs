@@ -1,0 +1,98 @@
+//! The cheap tests a robot passes before the exact predicate: [`Filter`] in double
+//! precision and [`Line`] in single precision, with the proof of its rounding bound.
+
+/// Robots tested at once by the line filter of [`SegmentGrid::blocked`] (a chunk may
+/// run past a slice into the next robots: a false alarm, never a miss).
+pub(super) const LANES: usize = 8;
+
+/// The cheap test of [`SegmentGrid::blocked`] on stored coordinates.
+pub(super) struct Filter {
+    /// The observer, relative to the swarm's corner.
+    pub(super) origin: [f64; 2],
+    /// The line of sight.
+    pub(super) d: [f64; 2],
+    pub(super) slack: f64,
+    pub(super) along_max: f64,
+    pub(super) band: f64,
+    pub(super) single: bool,
+    pub(super) line: Line,
+}
+
+impl Filter {
+    #[inline(always)]
+    pub(super) fn near(&self, &[x, y]: &[f32; 2]) -> bool {
+        let (rx, ry) = (f64::from(x) - self.origin[0], f64::from(y) - self.origin[1]);
+        let [dx, dy] = self.d;
+        let along = rx * dx + ry * dy;
+        !self.single
+            | ((along > -self.slack)
+                & (along < self.along_max)
+                & ((rx * dy - ry * dx).abs() <= self.band))
+    }
+}
+
+/// The first test of [`SegmentGrid::blocked`]: whether a stored point lies within `w`
+/// of the line of sight, in single precision, in chunks of [`LANES`] robots (four times
+/// the robots per instruction of the double-precision [`Filter`]).
+///
+/// The point at distance `d` from the line gives `|n . s - c| <= d` for the exact unit
+/// normal `n` and offset `c`. Rounding `n` and `c` to single precision moves that by at
+/// most `u (|s_x| + |s_y| + |c|)` (u = 2^-24, stored coordinates are relative to the
+/// swarm's corner so `|s| <= extent`), and evaluating it in single precision by at
+/// most `3 u (|s_x| + |s_y| + |c|)` more (fused or not). A blocker lies within `tol`
+/// of the segment, its stored point within `tol + 2 err` of the line; `w` adds
+/// `8 u (extent + |c| + 1 ulp)` to that.
+pub(super) struct Line {
+    pub(super) n: [f32; 2],
+    pub(super) c: f32,
+    pub(super) w: f32,
+    /// Whether the bound holds (finite, not degenerate); else every robot passes.
+    pub(super) sound: bool,
+}
+
+impl Line {
+    /// The line through `origin` along `d` of length `len`; `w` bounds the distance of
+    /// a stored blocker to it; `extent` bounds |s_x| + |s_y| for stored points.
+    pub(super) fn new(origin: [f64; 2], d: [f64; 2], len: f64, w: f64, extent: f64) -> Self {
+        let n = [d[1] / len, -d[0] / len];
+        let c = n[0] * origin[0] + n[1] * origin[1];
+        let u = 2f64.powi(-24);
+        // `n` is a unit vector up to a few ulps of double precision, covered by the
+        // factor on `w`.
+        let w = (w * (1.0 + 1e-12) + 8.0 * u * (extent + c.abs()) * (1.0 + 1e-6)) * (1.0 + 2.0 * u);
+        let sound = len > 0.0 && (extent + c.abs() + w).is_finite() && extent < 1e30 && w < 1e30;
+        Line {
+            n: [n[0] as f32, n[1] as f32],
+            c: c as f32,
+            w: w as f32,
+            sound,
+        }
+    }
+
+    /// Whether some point of `coords[s0..s1]` other than those at the two `ends` (the
+    /// places of the observer and the observed in the layout, if found there) may lie
+    /// within `w` of the line. Reads whole chunks of
+    /// [`LANES`] (the padding), so may raise a false alarm.
+    #[inline(always)]
+    pub(super) fn any(&self, coords: &[[f32; 2]], s0: usize, s1: usize, ends: [u32; 2]) -> bool {
+        if !self.sound {
+            return s0 < s1;
+        }
+        let ([nx, ny], c, w) = (self.n, self.c, self.w);
+        let mut s = s0;
+        while s < s1 {
+            let Some(chunk) = coords.get(s..s + LANES) else {
+                return true;
+            };
+            let mut hit = false;
+            for (at, &[x, y]) in (s as u32..).zip(chunk) {
+                hit |= ((nx * x + ny * y - c).abs() <= w) & (at != ends[0]) & (at != ends[1]);
+            }
+            if hit {
+                return true;
+            }
+            s += LANES;
+        }
+        false
+    }
+}

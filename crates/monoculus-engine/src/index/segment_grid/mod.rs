@@ -1,0 +1,134 @@
+//! [`SegmentGrid`]: robots bucketed for line-of-sight queries in the plane.
+//!
+//! A line of sight across the swarm is long and thin: an R-tree's overlapping boxes make
+//! such a query visit many nodes, and a plain grid costs one random access per cell. So
+//! the robots are stored twice, in horizontal and in vertical bands, each band cut into
+//! cells stored one after the other: a line is walked in the bands along its major axis,
+//! and the cells it crosses in one band are one contiguous slice, read in one pass. The
+//! measurements behind each choice are in docs/performance.md.
+//!
+//! Candidates pass a cheap perpendicular-distance filter before the exact predicate.
+//! They are a superset of the blockers, and the decision is the shared
+//! [`blocks`](monoculus_core::vision::blocks), so answers are those of the brute-force
+//! oracle (tested, also with blockers placed at the edge of the
+//! blocking cone across band edges).
+//!
+//! The grid in files: `bands` (the layout), the line-of-sight walk (`walk`)
+//! and its single-precision filter (`filter`), radius queries (`near`), the
+//! nearest-first iterator (`nearest`), robots beyond a radius (`beyond`), the set of
+//! robots that moved since the grid was built (`stale`), and the prefetch hint.
+
+mod bands;
+mod beyond;
+mod filter;
+mod near;
+mod nearest;
+mod prefetch;
+mod slots;
+mod stale;
+#[cfg(test)]
+mod tests;
+mod walk;
+
+use monoculus_core::geometry::Point;
+
+use bands::{BAND, Bands, CELL};
+pub(crate) use prefetch::prefetch;
+pub use stale::Stale;
+
+/// Robots bucketed for line-of-sight walks and radius queries over the first two
+/// coordinates, about one robot per cell.
+pub struct SegmentGrid {
+    /// Horizontal bands (running along x): lines of sight with |dx| >= |dy|, radius
+    /// queries.
+    rows: Bands,
+    /// Vertical bands (running along y): lines of sight with |dy| > |dx|.
+    columns: Bands,
+    spacing: f64,
+    /// The lower corner of the swarm, origin of the stored coordinates.
+    lo: [f64; 2],
+    /// The upper corner of the swarm.
+    hi: [f64; 2],
+    /// The largest rounding error of a stored coordinate.
+    rounding: f64,
+    /// Whether the stored coordinates are finite (else every robot is a candidate).
+    single: bool,
+}
+
+impl SegmentGrid {
+    /// A grid over the first two coordinates of `points`.
+    pub fn new<P: Point>(points: &[P]) -> Self {
+        let n = points.len().max(1) as f64;
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in points {
+            for a in 0..2 {
+                lo[a] = lo[a].min(p.axis(a));
+                hi[a] = hi[a].max(p.axis(a));
+            }
+        }
+        if points.is_empty() {
+            (lo, hi) = ([0.0; 2], [0.0; 2]);
+        }
+        let ext = [hi[0] - lo[0], hi[1] - lo[1]];
+        let longest = ext[0].max(ext[1]);
+        // The mean spacing in the swarm's core (its interquartile box holds about a
+        // quarter of the robots): a converging swarm is dense in the middle with a few
+        // robots far out, and lines of sight cross the core. But never more than about
+        // 16n cells per layout (straggling swarms: memory against walk length, see
+        // docs/performance.md), nor 4n for thin ones.
+        let core = quartile_box_area(points) / (0.25 * n);
+        let spacing = core
+            .sqrt()
+            .max((ext[0] * ext[1] / (16.0 * n * BAND * CELL)).sqrt())
+            .max(longest / (2.0 * n.sqrt()))
+            .max(longest * 1e-9)
+            .max(1e-300);
+        Self::with_spacing(points, spacing, lo, hi)
+    }
+
+    /// A grid over `points` in the box `[lo, hi]` (theirs) with cells `spacing` wide.
+    fn with_spacing<P: Point>(points: &[P], spacing: f64, lo: [f64; 2], hi: [f64; 2]) -> Self {
+        let longest = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        SegmentGrid {
+            rows: Bands::new(points, 0, lo, hi, spacing),
+            columns: Bands::new(points, 1, lo, hi, spacing),
+            spacing,
+            lo,
+            hi,
+            // A relative coordinate r is stored as r(1 + e) with |e| <= 2^-24; the
+            // filter trusts single precision only while coordinates are finite there.
+            rounding: longest * 2f64.powi(-24),
+            single: longest < 1e30,
+        }
+    }
+
+    /// Whether `(x, y)` lies in the box of the robots the grid was built over: a robot
+    /// that moved there may be handled as [`Stale`] (every geometric bound of the
+    /// walks holds for points in the box).
+    pub fn covers(&self, x: f64, y: f64) -> bool {
+        (self.lo[0] <= x) & (x <= self.hi[0]) & (self.lo[1] <= y) & (y <= self.hi[1])
+    }
+
+    /// The mean spacing between robots (the side of a cell).
+    pub fn cell_size(&self) -> f64 {
+        self.spacing
+    }
+}
+
+/// The area of the box between the first and third quartiles of each coordinate,
+/// estimated from at most 4096 robots (evenly strided: a function of the positions).
+fn quartile_box_area<P: Point>(points: &[P]) -> f64 {
+    let stride = points.len().div_ceil(4096).max(1);
+    let mut area = 1.0;
+    for a in 0..2 {
+        let mut v: Vec<f64> = points.iter().step_by(stride).map(|p| p.axis(a)).collect();
+        if v.len() < 4 {
+            return 0.0;
+        }
+        let (q1, q3) = (v.len() / 4, 3 * v.len() / 4);
+        let x3 = *v.select_nth_unstable_by(q3, f64::total_cmp).1;
+        let x1 = *v[..q3].select_nth_unstable_by(q1, f64::total_cmp).1;
+        area *= x3 - x1;
+    }
+    area
+}

@@ -1,0 +1,60 @@
+//! Radius queries: the robots near a point, whether a robot is isolated, and the hints
+//! that fetch their cells ahead.
+
+use super::SegmentGrid;
+use super::prefetch::prefetch;
+
+impl SegmentGrid {
+    /// Asks for what [`SegmentGrid::isolated`] reads first about robot `k` (a hint).
+    #[inline]
+    pub fn prefetch_isolated(&self, k: usize) {
+        prefetch(&self.rows.place[k]);
+    }
+
+    /// Asks for the cell bounds [`SegmentGrid::for_each_near`] reads first around
+    /// `(x, y)` within `radius` (a hint).
+    #[inline]
+    pub fn prefetch_near(&self, x: f64, y: f64, radius: f64) {
+        let g = &self.rows;
+        let c = g.cell(x - radius);
+        for r in g.band(y - radius)..=g.band(y + radius) {
+            prefetch(&g.start[r * g.cells + c]);
+        }
+    }
+
+    /// Calls `f` with every robot whose cell meets the square of half-side `radius`
+    /// around `(x, y)` (a superset of the robots within `radius`).
+    pub fn for_each_near(&self, x: f64, y: f64, radius: f64, f: &mut dyn FnMut(usize)) {
+        let g = &self.rows;
+        for r in g.band(y - radius)..=g.band(y + radius) {
+            for s in g.slice(r, x - radius, x + radius) {
+                f(g.items[s] as usize);
+            }
+        }
+    }
+
+    /// Whether certainly no other robot lies within `radius` of robot `k`, where the
+    /// grid was built: the robots of the cells near its stored point, tested on stored
+    /// coordinates with room for their rounding. `false` when unsure (a radius not
+    /// below a cell's size, coordinates not finite in single precision).
+    pub fn isolated(&self, k: usize, radius: f64) -> bool {
+        let g = &self.rows;
+        // Two stored coordinates are each off by at most `rounding` plus the double
+        // rounding of the shift to the swarm's corner, and so is the point rebuilt
+        // from them; twice that leaves room.
+        let extent = self.lo[0].abs() + self.lo[1].abs() + self.hi[0].abs() + self.hi[1].abs();
+        let reach = radius + 4.0 * self.rounding + 16.0 * f64::EPSILON * extent;
+        if !self.single || reach.is_nan() || reach >= self.spacing {
+            return false;
+        }
+        let s = g.place[k] as usize;
+        let [x, y] = g.coords[s].map(f64::from);
+        let (ax, ay) = (x + self.lo[0], y + self.lo[1]);
+        (g.band(ay - reach)..=g.band(ay + reach)).all(|r| {
+            g.slice(r, ax - reach, ax + reach).all(|t| {
+                let [u, v] = g.coords[t].map(f64::from);
+                t == s || (u - x).abs() > reach || (v - y).abs() > reach
+            })
+        })
+    }
+}

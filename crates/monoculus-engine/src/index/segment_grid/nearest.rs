@@ -1,0 +1,126 @@
+//! Robots in order of distance from an observer, expanding ring by ring.
+
+use monoculus_core::geometry::Point;
+
+use super::bands::Bands;
+use super::{SegmentGrid, Stale};
+
+impl SegmentGrid {
+    /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
+    /// around its cell, each robot given out once no unvisited cell can hold a nearer
+    /// one. O(k log k) for the first k. The `stale` robots are skipped in the cells
+    /// and queued at once from their current positions.
+    pub fn nearest_first<'a, P: Point>(
+        &'a self,
+        positions: &'a [P],
+        i: usize,
+        stale: &'a Stale,
+    ) -> impl Iterator<Item = usize> + 'a {
+        let p = positions[i];
+        let g = &self.rows;
+        let heap = stale
+            .iter()
+            .filter(|&k| k != i)
+            .map(|k| std::cmp::Reverse(((positions[k] - p).length().to_bits(), k)))
+            .collect();
+        Nearest {
+            grid: g,
+            positions,
+            i,
+            p,
+            cell: (g.cell(p.axis(0)), g.band(p.axis(1))),
+            ring: None,
+            reach: 0.0,
+            exhausted: false,
+            heap,
+            stale,
+        }
+    }
+}
+
+/// The iterator of [`SegmentGrid::nearest_first`].
+pub(super) struct Nearest<'a, P: Point> {
+    pub(super) grid: &'a Bands,
+    pub(super) positions: &'a [P],
+    pub(super) i: usize,
+    pub(super) p: P,
+    /// The observer's cell and band.
+    pub(super) cell: (usize, usize),
+    /// The last ring of cells visited (`None` before the first).
+    pub(super) ring: Option<usize>,
+    /// Every robot nearer than this has been visited.
+    pub(super) reach: f64,
+    /// Whether every cell has been visited.
+    pub(super) exhausted: bool,
+    /// Visited robots not yet given out: (distance bits, robot), nearest on top.
+    pub(super) heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>>,
+    /// Robots whose cells are out of date (queued from the start).
+    pub(super) stale: &'a Stale,
+}
+
+impl<P: Point> Nearest<'_, P> {
+    /// Visits the next ring of cells; `false` if the grid is exhausted.
+    pub(super) fn expand(&mut self) -> bool {
+        let g = self.grid;
+        let (c, r) = self.cell;
+        if self.exhausted {
+            return false;
+        }
+        let k = self.ring.map_or(0, |k| k + 1);
+        let (c0, c1) = (c.saturating_sub(k), (c + k).min(g.cells - 1));
+        let (r0, r1) = (r.saturating_sub(k), (r + k).min(g.bands - 1));
+        self.ring = Some(k);
+        let push = |range: std::ops::Range<usize>, heap: &mut std::collections::BinaryHeap<_>| {
+            for s in range {
+                let j = g.items[s] as usize;
+                if j != self.i && !self.stale.contains(j) {
+                    let d = (self.positions[j] - self.p).length();
+                    heap.push(std::cmp::Reverse((d.to_bits(), j)));
+                }
+            }
+        };
+        for band in r0..=r1 {
+            if k == 0 || band == r.wrapping_sub(k) || band == r + k {
+                push(g.cells_range(band, c0, c1), &mut self.heap);
+            } else {
+                if c >= k {
+                    push(g.cells_range(band, c - k, c - k), &mut self.heap);
+                }
+                if c + k < g.cells {
+                    push(g.cells_range(band, c + k, c + k), &mut self.heap);
+                }
+            }
+        }
+        // Distance from the observer to the nearest unvisited cell (infinite past the
+        // grid's edge), less room for rounding.
+        let (x, y) = (self.p.axis(0), self.p.axis(1));
+        let (lo_x, lo_y) = g.corner(c.saturating_sub(k), r.saturating_sub(k));
+        let (hi_x, hi_y) = g.corner(c + k + 1, r + k + 1);
+        let gap = |inside: bool, d: f64| if inside { d } else { f64::INFINITY };
+        let reach = gap(c > k, x - lo_x)
+            .min(gap(c + k + 1 < g.cells, hi_x - x))
+            .min(gap(r > k, y - lo_y))
+            .min(gap(r + k + 1 < g.bands, hi_y - y));
+        self.exhausted = reach == f64::INFINITY;
+        self.reach = reach * (1.0 - 1e-9) - 1e-9 * (x.abs() + y.abs());
+        true
+    }
+}
+
+impl<P: Point> Iterator for Nearest<'_, P> {
+    type Item = usize;
+
+    fn next(&mut self) -> Option<usize> {
+        loop {
+            if let Some(&std::cmp::Reverse((d, j))) = self.heap.peek()
+                && f64::from_bits(d) < self.reach
+            {
+                self.heap.pop();
+                return Some(j);
+            }
+            if !self.expand() {
+                return self.heap.pop().map(|std::cmp::Reverse((_, j))| j);
+            }
+        }
+    }
+}
