@@ -1,0 +1,214 @@
+//! Sweeps: the lists of a config (its axes) expanded into cells, each typed and
+//! validated; the runs of an experiment.
+
+use super::*;
+
+pub(super) fn collect_axes(table: &toml::Table, prefix: &str, out: &mut Vec<Axis>) {
+    for (k, v) in table {
+        let path = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(t) => collect_axes(t, &path, out),
+            toml::Value::Array(a) if path != "seeds" => out.push(Axis {
+                path,
+                values: a.clone(),
+            }),
+            _ => {}
+        }
+    }
+}
+
+pub(super) fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) {
+    let parts: Vec<&str> = path.split('.').collect();
+    let mut t = table;
+    for part in &parts[..parts.len() - 1] {
+        t = t
+            .get_mut(*part)
+            .and_then(toml::Value::as_table_mut)
+            .expect("axis path exists");
+    }
+    t.insert(parts[parts.len() - 1].to_string(), value);
+}
+
+pub(super) fn render(value: &toml::Value) -> String {
+    match value {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+impl Experiment {
+    /// Loads and validates the config at `path`, with `--set` overrides.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Experiment, ConfigError> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+            file: label.clone(),
+            line: None,
+            key: None,
+            message: format!("cannot read: {e}"),
+        })?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Self::parse(&text, &label, &base, overrides)
+    }
+
+    /// Parses a config from its text; `label` names it in errors, `base` resolves
+    /// relative file paths.
+    pub fn parse(
+        text: &str,
+        label: &str,
+        base: &Path,
+        overrides: &[String],
+    ) -> Result<Experiment, ConfigError> {
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| {
+            let line = e.span().map(|s| line_of_offset(text, s.start));
+            let mut message = e.message().trim().to_string();
+            if message.contains("as i128") || message.contains("number too large") {
+                message = "integer too large: TOML integers are 64-bit".into();
+            }
+            if message == "duplicate key"
+                && let Some(span) = e.span()
+                && let Some(k) = text.get(span)
+            {
+                message = format!("duplicate key `{}`", k.trim().trim_matches('"'));
+            }
+            ConfigError {
+                file: label.to_string(),
+                line,
+                key: line.and_then(|l| key_at_line(text, l)),
+                message,
+            }
+        })?;
+        let mut src = Source {
+            label: label.to_string(),
+            text,
+            overridden: Vec::new(),
+        };
+        for o in overrides {
+            src.overridden.push(apply_override(&mut table, o)?);
+        }
+        let mut axes = Vec::new();
+        collect_axes(&table, "", &mut axes);
+        if let Some(empty) = axes.iter().find(|a| a.values.is_empty()) {
+            return Err(src.error(
+                &empty.path,
+                "empty list: a swept key needs at least one value",
+            ));
+        }
+        if let Some(name) = axes.iter().find(|a| a.path == "name") {
+            return Err(src.error(&name.path, "one plain name for the experiment, not a list"));
+        }
+        for axis in &axes {
+            for (k, v) in axis.values.iter().enumerate() {
+                if axis.values[..k].contains(v) {
+                    return Err(src.error(
+                        &axis.path,
+                        format!("the list has {} twice: every cell must differ", render(v)),
+                    ));
+                }
+            }
+        }
+        let count = axes
+            .iter()
+            .try_fold(1usize, |c, a| c.checked_mul(a.values.len()))
+            .filter(|&c| c <= crate::limits::MAX_CELLS)
+            .ok_or_else(|| {
+                src.error(
+                    &axes[0].path,
+                    format!(
+                        "the sweep has more than {} cells (the product of the lists' lengths)",
+                        crate::limits::MAX_CELLS
+                    ),
+                )
+            })?;
+        let mut cells = Vec::with_capacity(count);
+        let mut warnings = Vec::new();
+        let mut files: HashMap<PathBuf, PositionsFile> = HashMap::new();
+        for index in 0..count {
+            let mut rest = index;
+            let mut chosen = vec![0; axes.len()];
+            for (a, axis) in axes.iter().enumerate().rev() {
+                chosen[a] = rest % axis.values.len();
+                rest /= axis.values.len();
+            }
+            let mut cell_table = table.clone();
+            let mut values = Vec::with_capacity(axes.len());
+            for (axis, &c) in axes.iter().zip(&chosen) {
+                set_path(&mut cell_table, &axis.path, axis.values[c].clone());
+                values.push((axis.path.clone(), render(&axis.values[c])));
+            }
+            let spec = typed(cell_table, &src)?;
+            let file_positions = validate(&spec, &src, base, &mut files, &mut warnings)?;
+            let key = values
+                .iter()
+                .map(|(k, v)| format!("{k}={v}"))
+                .collect::<Vec<_>>()
+                .join(";");
+            cells.push(Cell {
+                index,
+                key,
+                values,
+                spec,
+                file_positions,
+            });
+        }
+        let first = &cells[0].spec;
+        let seed_count = match &first.seeds {
+            Seeds::Count(c) => *c,
+            Seeds::List(v) => v.len() as u64,
+        };
+        if seed_count.saturating_mul(count as u64) > crate::limits::MAX_RUNS {
+            return Err(src.error(
+                "seeds",
+                format!(
+                    "{seed_count} seeds x {count} cells: at most {} runs in one experiment",
+                    crate::limits::MAX_RUNS
+                ),
+            ));
+        }
+        let seeds = first.seeds.to_vec();
+        let mut resolved = toml::Table::try_from(first).expect("a RunSpec serialises");
+        for axis in &axes {
+            set_path(
+                &mut resolved,
+                &axis.path,
+                toml::Value::Array(axis.values.clone()),
+            );
+        }
+        warnings.sort();
+        warnings.dedup();
+        let resolved = toml::to_string(&resolved).expect("a table serialises");
+        Ok(Experiment {
+            name: first.name.clone(),
+            seeds,
+            axes,
+            cells,
+            hash: crate::results::config_hash(&resolved),
+            resolved,
+            warnings,
+            base: std::path::absolute(if base.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                base
+            })
+            .unwrap_or_else(|_| base.to_path_buf()),
+            source: text.to_string(),
+            overrides: overrides.to_vec(),
+        })
+    }
+
+    /// Every run, cell-major then by seed.
+    pub fn runs(&self) -> Vec<RunId> {
+        self.cells
+            .iter()
+            .flat_map(|c| {
+                self.seeds.iter().map(move |&seed| RunId {
+                    cell: c.index,
+                    seed,
+                })
+            })
+            .collect()
+    }
+}

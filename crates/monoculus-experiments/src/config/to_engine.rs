@@ -1,0 +1,116 @@
+//! A cell as the engine's types: its simulation config and its start positions.
+
+use super::*;
+
+impl Cell {
+    /// The algorithm.
+    pub fn algorithm(&self) -> AlgorithmKind {
+        self.spec.algorithm.name
+    }
+
+    /// Number of robots.
+    pub fn n(&self) -> usize {
+        self.file_positions
+            .as_ref()
+            .map_or_else(|| self.spec.swarm.n.unwrap_or(0), PositionsFile::len)
+    }
+
+    /// The stop criterion in force.
+    pub fn criterion(&self) -> StopCriterion {
+        match self.spec.stop.criterion {
+            CriterionName::Default => StopCriterion::default_for(self.algorithm()),
+            CriterionName::Quiescent => StopCriterion::Quiescent,
+            CriterionName::Diameter => StopCriterion::Diameter,
+            CriterionName::QuiescentOrDiameter => StopCriterion::QuiescentOrDiameter,
+            CriterionName::Box => StopCriterion::Box,
+        }
+    }
+
+    /// The engine configuration for `seed`.
+    pub fn sim_config(&self, seed: u64) -> SimConfig {
+        let a = &self.spec.algorithm;
+        let v = &self.spec.vision;
+        let defaults = VisionParams::for_step(a.step);
+        let sc = &self.spec.scheduler;
+        SimConfig {
+            algorithm: AlgorithmParams {
+                kind: self.algorithm(),
+                step: a.step,
+                locality: a.locality,
+                errors: ObservationErrors {
+                    flip_p: self.spec.errors.flip_p,
+                    flip_window: self.spec.errors.flip_window,
+                    angle_sigma: self.spec.errors.angle_sigma,
+                },
+                target: a.target,
+            },
+            vision: VisionParams {
+                eps_pos: v.eps_pos.unwrap_or(defaults.eps_pos),
+                eps_ang: v.eps_ang,
+                eps_axis: v.eps_axis.unwrap_or(defaults.eps_axis),
+            },
+            backend: match v.backend {
+                BackendName::Index => SightBackend::Index,
+                BackendName::Exact => SightBackend::Exact,
+            },
+            scheduler: match sc.kind {
+                SchedulerKind::Fsync => SchedulerSpec::Fsync,
+                SchedulerKind::Ssync => SchedulerSpec::Ssync {
+                    p: sc.p,
+                    fairness: sc.fairness,
+                },
+                SchedulerKind::Async => SchedulerSpec::Async(AsyncSpec {
+                    idle: sc.idle,
+                    compute: sc.compute,
+                    motion: sc.motion,
+                    start: match sc.start {
+                        StartName::Together => AsyncStart::Together,
+                        StartName::Random => AsyncStart::Random,
+                    },
+                }),
+                SchedulerKind::Sequential => SchedulerSpec::Sequential {
+                    order: match sc.order {
+                        OrderName::RoundRobin => SequentialOrder::RoundRobin,
+                        OrderName::Random => SequentialOrder::Random,
+                    },
+                },
+            },
+            stop: StopSpec {
+                criterion: self.criterion(),
+                max_rounds: self.spec.stop.max_rounds,
+            },
+            seed,
+            movement: MovementErrors {
+                step_factor: self.spec.errors.step_factor,
+                non_rigid: self.spec.errors.non_rigid.map(|n| n.delta_min),
+            },
+        }
+    }
+
+    /// The dimension.
+    pub fn dim(&self) -> usize {
+        self.spec.swarm.dim
+    }
+
+    /// The initial positions for `seed`, in dimension `P::DIM` (= [`Cell::dim`]).
+    pub fn initial_positions<P: Point>(&self, seed: u64) -> Vec<P> {
+        if let Some(p) = &self.file_positions {
+            return p.points();
+        }
+        let s = &self.spec.swarm;
+        let side = s.side;
+        let shape = match s.init {
+            InitKind::Square => InitShape::Square { side },
+            InitKind::Disc => InitShape::Disc { side },
+            InitKind::Line => InitShape::Line { side },
+            InitKind::Lattice => InitShape::Lattice { side },
+            InitKind::Clusters => InitShape::Clusters {
+                side,
+                clusters: s.clusters,
+                spread: s.spread.unwrap_or(side / 20.0),
+            },
+            InitKind::File => unreachable!("file positions are loaded at validation"),
+        };
+        generate(&shape, self.n(), seed)
+    }
+}

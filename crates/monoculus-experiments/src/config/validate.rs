@@ -1,0 +1,251 @@
+//! What the schema cannot say: ranges, sizes the machine can hold, names, files.
+
+use super::*;
+
+/// A number as a person writes it: plain, or with an exponent when very large or small.
+pub(super) fn show(x: f64) -> String {
+    if x != 0.0 && !(1e-6..1e16).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// What is wrong with a length: not positive (not negative, with `zero_ok`), or so large
+/// that its square could overflow.
+pub(super) fn bounded(x: f64, zero_ok: bool) -> Option<String> {
+    if !(x > 0.0 || zero_ok && x == 0.0) {
+        let what = if zero_ok { "non-negative" } else { "positive" };
+        Some(format!("must be {what}, got {}", show(x)))
+    } else if x.is_nan() || x > MAX_MAGNITUDE {
+        Some(format!(
+            "must be at most {MAX_MAGNITUDE:e} (so that squares cannot overflow), got {}",
+            show(x)
+        ))
+    } else {
+        None
+    }
+}
+
+/// Why `name` cannot name a results folder (`results/<name>`), if it cannot: it must be a
+/// plain file name.
+pub(super) fn name_problem(name: &str) -> Option<String> {
+    let problem = if name.is_empty() {
+        "is empty"
+    } else if name == "." || name == ".." || name.contains(['/', '\\']) {
+        "names a path; it must be a plain file name (the default results folder is results/<name>)"
+    } else if name.starts_with('.') {
+        "starts with a dot; it must be a plain, visible file name"
+    } else if name.chars().any(char::is_control) {
+        "contains a control character"
+    } else if name.len() > 200 {
+        "is longer than 200 bytes"
+    } else {
+        return None;
+    };
+    Some(format!("{name:?} {problem}"))
+}
+
+pub(super) fn validate(
+    spec: &RunSpec,
+    src: &Source<'_>,
+    base: &Path,
+    files: &mut HashMap<PathBuf, PositionsFile>,
+    warnings: &mut Vec<String>,
+) -> Result<Option<PositionsFile>, ConfigError> {
+    let err = |key: &str, m: String| Err(src.error(key, m));
+    match &spec.seeds {
+        Seeds::Count(0) => return err("seeds", "must be at least 1".into()),
+        Seeds::List(v) if v.is_empty() => return err("seeds", "the list of seeds is empty".into()),
+        Seeds::List(v) => {
+            let mut seen = std::collections::HashSet::new();
+            if let Some(d) = v.iter().find(|s| !seen.insert(**s)) {
+                return err(
+                    "seeds",
+                    format!("seed {d} is listed twice: every run must differ"),
+                );
+            }
+        }
+        _ => {}
+    }
+    if let Some(problem) = name_problem(&spec.name) {
+        return err("name", problem);
+    }
+    let s = &spec.swarm;
+    if s.dim == 3
+        && matches!(
+            spec.algorithm.name,
+            AlgorithmKind::Median | AlgorithmKind::AngleBisector
+        )
+    {
+        return err(
+            "algorithm.name",
+            format!(
+                "{} is defined by angular order in the plane (the paper's Figure 1): dim must be 2",
+                spec.algorithm.name.name()
+            ),
+        );
+    }
+    if s.dim != 2 && s.dim != 3 {
+        return err("swarm.dim", format!("must be 2 or 3, got {}", s.dim));
+    }
+    if let Some(m) = bounded(s.side, false) {
+        return err("swarm.side", m);
+    }
+    if s.clusters == 0 {
+        return err("swarm.clusters", "must be at least 1".into());
+    }
+    if let Some(m) = s.spread.and_then(|sp| bounded(sp, true)) {
+        return err("swarm.spread", m);
+    }
+    let mut file_positions = None;
+    if s.init == InitKind::File {
+        let Some(file) = &s.file else {
+            return err(
+                "swarm.file",
+                "init = \"file\" needs swarm.file, a CSV of positions".into(),
+            );
+        };
+        let path = base.join(file);
+        let pts = match files.get(&path) {
+            Some(p) => p.clone(),
+            None => {
+                let p =
+                    read_positions(&path).map_err(|e| src.error("swarm.file", e.to_string()))?;
+                files.insert(path.clone(), p.clone());
+                p
+            }
+        };
+        if let Err(m) = crate::limits::check_robots(pts.len() as u64) {
+            return err("swarm.file", m);
+        }
+        if s.dim == 3 && !pts.has_z {
+            return err(
+                "swarm.file",
+                format!("dim = 3 needs a z column in {}", path.display()),
+            );
+        }
+        if let Some(n) = s.n
+            && n != pts.len()
+        {
+            return err(
+                "swarm.n",
+                format!("n = {n} but {} has {} robots", path.display(), pts.len()),
+            );
+        }
+        file_positions = Some(pts);
+    } else {
+        match s.n {
+            None => return err("swarm.n", "missing: the number of robots".into()),
+            Some(0) => return err("swarm.n", "must be at least 1".into()),
+            Some(n) => {
+                if let Err(m) = crate::limits::check_robots(n as u64) {
+                    return err("swarm.n", m);
+                }
+                if s.init == InitKind::Clusters && s.clusters > n {
+                    return err(
+                        "swarm.clusters",
+                        format!(
+                            "{} clusters for {n} robots: at most one cluster a robot",
+                            s.clusters
+                        ),
+                    );
+                }
+            }
+        }
+    }
+    let a = &spec.algorithm;
+    if let Some(m) = bounded(a.step, false) {
+        return err("algorithm.step", m);
+    }
+    if let Some(m) = bounded(a.locality, false) {
+        return err("algorithm.locality", m);
+    }
+    let kind = a.name;
+    if kind.needs_locality_at_least_twice_step() && a.locality < 2.0 * a.step {
+        let line = line_of(src.text, "algorithm.locality")
+            .map(|l| format!(":{l}"))
+            .unwrap_or_default();
+        warnings.push(format!(
+            "{}{line}: algorithm.locality: c = {} < 2b = {}: the paper's convergence guarantees for {} need c >= 2b",
+            src.label,
+            a.locality,
+            2.0 * a.step,
+            kind.name()
+        ));
+    }
+    let v = &spec.vision;
+    for (key, value) in [
+        ("vision.eps_pos", v.eps_pos),
+        ("vision.eps_ang", Some(v.eps_ang)),
+        ("vision.eps_axis", v.eps_axis),
+    ] {
+        if let Some(x) = value
+            && !(x >= 0.0 && x.is_finite())
+        {
+            return err(key, format!("must be non-negative, got {x}"));
+        }
+    }
+    let sc = &spec.scheduler;
+    if !(sc.p > 0.0 && sc.p <= 1.0) {
+        return err("scheduler.p", format!("must be in (0, 1], got {}", sc.p));
+    }
+    for (key, ticks) in [
+        ("scheduler.idle", sc.idle),
+        ("scheduler.compute", sc.compute),
+        ("scheduler.move", sc.motion),
+    ] {
+        let problem = match ticks {
+            TickDist::Fixed { ticks: 0 } => Some("ticks must be at least 1".to_string()),
+            TickDist::Uniform { min, max } if min == 0 || max < min => Some(format!(
+                "needs 1 <= min <= max, got min = {min}, max = {max}"
+            )),
+            TickDist::Exponential { mean } if !(mean > 0.0 && mean.is_finite()) => {
+                Some(format!("mean must be positive, got {mean}"))
+            }
+            _ => None,
+        };
+        if let Some(m) = problem {
+            return err(key, m);
+        }
+    }
+    let e = &spec.errors;
+    if !(0.0..=1.0).contains(&e.flip_p) {
+        return err(
+            "errors.flip_p",
+            format!("must be in [0, 1], got {}", e.flip_p),
+        );
+    }
+    if !(0.0..=1.0).contains(&e.flip_window) {
+        return err(
+            "errors.flip_window",
+            format!("must be in [0, 1], got {}", e.flip_window),
+        );
+    }
+    if !(e.angle_sigma >= 0.0 && e.angle_sigma.is_finite()) {
+        return err(
+            "errors.angle_sigma",
+            format!("must be non-negative, got {}", e.angle_sigma),
+        );
+    }
+    let factor_ok = match e.step_factor {
+        FactorDist::Fixed { value } => value >= 0.0 && value.is_finite(),
+        FactorDist::Uniform { min, max } => min >= 0.0 && min <= max && max.is_finite(),
+        FactorDist::Normal { mean, sd } => mean.is_finite() && sd >= 0.0 && sd.is_finite(),
+    };
+    if !factor_ok {
+        return err(
+            "errors.step_factor",
+            "factors must be finite and non-negative (min <= max, sd >= 0)".into(),
+        );
+    }
+    if let Some(nr) = e.non_rigid
+        && !(nr.delta_min >= 0.0 && nr.delta_min.is_finite())
+    {
+        return err(
+            "errors.non_rigid",
+            format!("delta_min must be non-negative, got {}", nr.delta_min),
+        );
+    }
+    Ok(file_positions)
+}
