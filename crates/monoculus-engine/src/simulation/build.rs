@@ -1,0 +1,97 @@
+//! Building a run: the parameters checked, the world's resources and robot entities.
+
+use super::*;
+
+/// Checks what the engine needs of a run (the experiments layer names the keys first).
+pub(super) fn validate<P: IndexPoint>(
+    config: &SimConfig,
+    initial: &[P],
+) -> Result<(), EngineError> {
+    if initial.is_empty() {
+        return Err(EngineError::EmptySwarm);
+    }
+    if initial.len() > MAX_ROBOTS {
+        return Err(EngineError::Invalid(format!(
+            "{} robots: at most {MAX_ROBOTS}",
+            initial.len()
+        )));
+    }
+    let a = &config.algorithm;
+    if !(a.step > 0.0 && a.step <= MAX_MAGNITUDE) {
+        return Err(EngineError::Invalid(format!(
+            "step must be positive and at most {MAX_MAGNITUDE:e}, got {}",
+            a.step
+        )));
+    }
+    if !(a.locality > 0.0 && a.locality <= MAX_MAGNITUDE) {
+        return Err(EngineError::Invalid(format!(
+            "locality must be positive and at most {MAX_MAGNITUDE:e}, got {}",
+            a.locality
+        )));
+    }
+    if initial
+        .iter()
+        .any(|p| (0..P::DIM).any(|k| p.axis(k).is_nan() || p.axis(k).abs() > MAX_MAGNITUDE))
+    {
+        return Err(EngineError::Invalid(format!(
+            "initial positions must be finite and at most {MAX_MAGNITUDE:e} in magnitude"
+        )));
+    }
+    Ok(())
+}
+
+/// The parameters every system reads.
+pub(super) fn params(config: &SimConfig) -> Params {
+    Params {
+        algorithm: config.algorithm,
+        vision: config.vision,
+        backend: config.backend,
+        scheduler: config.scheduler,
+        seed: config.seed,
+        movement: config.movement,
+    }
+}
+
+/// Inserts the resources of a run starting at `initial` and spawns its robots (with
+/// their termination memory, for the algorithm that has one); returns the initial hull.
+pub(super) fn populate<P: IndexPoint>(
+    world: &mut World,
+    config: &SimConfig,
+    params: Params,
+    initial: &[P],
+) -> f64 {
+    let shape = Shape::of(initial);
+    let hull_initial = shape.hull;
+    world.insert_resource(params);
+    world.insert_resource(Clock::default());
+    world.insert_resource(ScheduleState::default());
+    world.insert_resource(Tally::default());
+    world.insert_resource(shape);
+    world.insert_resource(HullVertices(P::hull_vertices(initial)));
+    world.insert_resource(Snapshot::<P> {
+        sight: None,
+        generation: 0,
+    });
+    world.insert_resource(Positions {
+        points: initial.to_vec(),
+        generation: 0,
+    });
+    let has_memory = config.algorithm.kind.has_memory();
+    let robots = (0..initial.len()).map(|i| {
+        (
+            Robot { index: i as u32 },
+            Activated(false),
+            Waiting(0),
+            Intent::<P>(None),
+        )
+    });
+    let entities: Vec<Entity> = world.spawn_batch(robots).collect();
+    if has_memory {
+        for (i, e) in entities.into_iter().enumerate() {
+            let mut stream = Stream::keyed(config.seed, Purpose::RobotFrame, i as u64, 0);
+            let frame = AxisFrame::random(P::DIM, &mut stream);
+            world.entity_mut(e).insert(Memory(RobotMemory::new(frame)));
+        }
+    }
+    hull_initial
+}

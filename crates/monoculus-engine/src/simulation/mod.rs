@@ -1,0 +1,244 @@
+//! [`Simulation`]: one run, a `World` of robot entities stepped by a `Schedule`.
+
+mod build;
+mod run;
+mod wiring;
+
+use bevy_ecs::prelude::*;
+use monoculus_core::algorithms::{AlgorithmParams, RobotMemory};
+use monoculus_core::errors::MovementErrors;
+use monoculus_core::geometry::AxisFrame;
+use monoculus_core::metrics;
+use monoculus_core::rng::{Purpose, Stream};
+use monoculus_core::vision::{Sight, VisionParams};
+use rayon::prelude::*;
+
+use crate::asynchrony::{
+    self, AsyncClock, AsyncSet, Phase, RobotEntities, START, Timing, duration,
+};
+use crate::components::{Activated, Intent, Memory, Robot, Waiting};
+use crate::resources::{
+    Clock, HullVertices, Params, Positions, ScheduleState, Shape, SightBackend, Snapshot,
+    SnapshotSight, Tally,
+};
+use crate::systems::{
+    RoundSet, activate_robots, advance_clock, apply_moves, compute_intents, decide_one,
+    measure_committed, measure_shape, refresh_snapshot, take_snapshot,
+};
+use crate::{
+    AsyncStart, EngineError, IndexPoint, MAX_MAGNITUDE, MAX_ROBOTS, SchedulerSpec, StopCriterion,
+    StopSpec,
+};
+
+/// Everything that defines a run besides the initial positions.
+#[derive(Clone, Copy, Debug)]
+pub struct SimConfig {
+    /// Algorithm, step b, locality c.
+    pub algorithm: AlgorithmParams,
+    /// Visibility tolerances.
+    pub vision: VisionParams,
+    /// Visibility backend (the spatial index, or brute force).
+    pub backend: SightBackend,
+    /// Scheduler.
+    pub scheduler: SchedulerSpec,
+    /// Stop criterion and round cap.
+    pub stop: StopSpec,
+    /// The seed of every random stream of the run.
+    pub seed: u64,
+    /// Movement errors (step-length factor, non-rigid moves).
+    pub movement: MovementErrors,
+}
+
+impl SimConfig {
+    /// The paper's setting for `kind`: b = 1, c = 2, FSYNC, the default stop criterion
+    /// with a cap of `max_rounds`, the index backend, no errors.
+    pub fn paper(
+        kind: monoculus_core::algorithms::AlgorithmKind,
+        seed: u64,
+        max_rounds: u64,
+    ) -> Self {
+        SimConfig {
+            algorithm: AlgorithmParams::new(kind, 1.0, 2.0),
+            vision: VisionParams::for_step(1.0),
+            backend: SightBackend::Index,
+            scheduler: SchedulerSpec::Fsync,
+            stop: StopSpec {
+                criterion: StopCriterion::default_for(kind),
+                max_rounds,
+            },
+            seed,
+            movement: MovementErrors::NONE,
+        }
+    }
+}
+
+/// The state after a round, for traces.
+#[derive(Debug)]
+pub struct RoundReport<'a, P> {
+    /// Rounds completed (0: the start configuration).
+    pub round: u64,
+    /// Robots activated in this round.
+    pub activated: u64,
+    /// Robots that moved in this round.
+    pub moving: u64,
+    /// Hull area (d = 2) or volume (d = 3).
+    pub hull: f64,
+    /// Diameter.
+    pub diameter: f64,
+    /// Bounding-box extents.
+    pub extents: &'a [f64],
+    /// Positions by robot index.
+    pub positions: &'a [P],
+}
+
+/// The metrics of a finished run (SPEC section 6).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunOutcome {
+    /// Rounds completed when the stop criterion was first found to hold (or the cap).
+    pub rounds: u64,
+    /// Activations.
+    pub activations: u64,
+    /// Activations that moved.
+    pub moves: u64,
+    /// Total distance travelled (moves * b for rigid moves).
+    pub distance: f64,
+    /// Whether the stop criterion was reached before the cap.
+    pub converged: bool,
+    /// Sum over robots of max(0, d_i - c/2), d_i the distance to the initial centroid.
+    pub d_opt: f64,
+    /// Largest d_i.
+    pub d_max: f64,
+    /// Diameter at the end.
+    pub final_diameter: f64,
+    /// Bounding-box extents at the end.
+    pub final_extents: Vec<f64>,
+    /// Hull area (volume) at the start.
+    pub hull_initial: f64,
+    /// Hull area (volume) at the end.
+    pub hull_final: f64,
+    /// The largest hull area (volume) measured during the run.
+    pub hull_max: f64,
+    /// The largest relative growth of the hull in one round (ASYNC: tick), 0 if none.
+    pub hull_growth_max: f64,
+    /// Rounds (ASYNC: ticks) in which the area of the hull of the positions grew.
+    pub hull_growth_rounds: u64,
+    /// Rounds (ASYNC: ticks) in which the hull of the positions and the destinations
+    /// of decided moves grew (for the round schedulers: rounds in which a destination
+    /// lay outside the hull of the positions). Under ASYNC this is the hull that
+    /// Lemma 2 bounds; the hull of the positions alone can grow.
+    pub committed_hull_growth: u64,
+    /// Termination algorithm: robots with all 2d bits set at the end.
+    pub terminated: Option<u64>,
+    /// ASYNC: the tick at which the run stopped.
+    pub ticks: Option<u64>,
+}
+
+impl RunOutcome {
+    /// work / d_opt, with work = moves * b.
+    pub fn rho(&self, step: f64) -> f64 {
+        self.moves as f64 * step / self.d_opt
+    }
+
+    /// rounds / d_max.
+    pub fn tau(&self) -> f64 {
+        self.rounds as f64 / self.d_max
+    }
+}
+
+/// One simulation run. The caller owns the loop: [`Simulation::step`] runs one round
+/// of the schedule; [`Simulation::run`] steps until the stop criterion holds.
+pub struct Simulation<P: IndexPoint> {
+    world: World,
+    schedule: Schedule,
+    config: SimConfig,
+    d_opt: f64,
+    d_max: f64,
+    hull_initial: f64,
+    /// The (position generation, activations) at which quiescence was last found false.
+    last_quiescence_check: Option<(u64, u64)>,
+    _point: std::marker::PhantomData<fn() -> P>,
+}
+
+impl<P: IndexPoint> Simulation<P> {
+    /// A simulation of `initial` (robot i starts at `initial[i]`).
+    pub fn new(config: SimConfig, initial: Vec<P>) -> Result<Self, EngineError> {
+        build::validate(&config, &initial)?;
+        let params = build::params(&config);
+        let mut world = World::new();
+        let hull_initial = build::populate(&mut world, &config, params, &initial);
+        let mut schedule = Schedule::default();
+        if let SchedulerSpec::Async(spec) = config.scheduler {
+            wiring::wire_async(
+                &mut world,
+                &mut schedule,
+                &params,
+                spec,
+                &initial,
+                hull_initial,
+            );
+        } else {
+            wiring::wire_rounds::<P>(&mut schedule);
+        }
+        Ok(Simulation {
+            world,
+            schedule,
+            d_opt: metrics::d_opt(&initial, config.algorithm.locality),
+            d_max: metrics::d_max(&initial),
+            hull_initial,
+            config,
+            last_quiescence_check: None,
+            _point: std::marker::PhantomData,
+        })
+    }
+
+    /// The run's configuration.
+    pub fn config(&self) -> &SimConfig {
+        &self.config
+    }
+
+    /// Positions by robot index.
+    pub fn positions(&self) -> &[P] {
+        &self.world.resource::<Positions<P>>().points
+    }
+
+    /// The ECS world (read-only), for inspection.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// (robots that moved, robots activated) in the last round (ASYNC: in the last
+    /// completed epoch).
+    pub fn round_counts(&self) -> (u64, u64) {
+        match self.world.get_resource::<AsyncClock>() {
+            Some(clock) => (clock.last_epoch.1, clock.last_epoch.0),
+            None => {
+                let tally = self.world.resource::<Tally>();
+                (tally.round_moves, tally.round_activations)
+            }
+        }
+    }
+
+    /// Runs one round (Activate, Look, Compute, Move, Measure), or under ASYNC one
+    /// event tick (Advance, FinishMoves, FinishComputes, Look, Account).
+    pub fn step(&mut self) {
+        self.schedule.run(&mut self.world);
+    }
+
+    fn report(&self, round: u64) -> RoundReport<'_, P> {
+        let tally = self.world.resource::<Tally>();
+        let shape = self.world.resource::<Shape>();
+        RoundReport {
+            round,
+            activated: if round == 0 {
+                0
+            } else {
+                tally.round_activations
+            },
+            moving: if round == 0 { 0 } else { tally.round_moves },
+            hull: shape.hull,
+            diameter: shape.diameter,
+            extents: &shape.extents,
+            positions: self.positions(),
+        }
+    }
+}

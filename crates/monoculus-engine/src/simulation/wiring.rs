@@ -1,0 +1,83 @@
+//! The two schedules: the systems of a synchronous round in [`RoundSet`] order, and the
+//! ASYNC tick's in [`AsyncSet`] order (with each robot's first Idle phase drawn).
+
+use super::*;
+
+/// Wires the ASYNC scheduler: every robot's first phase, the clock, the tick's systems.
+pub(super) fn wire_async<P: IndexPoint>(
+    world: &mut World,
+    schedule: &mut Schedule,
+    params: &Params,
+    spec: crate::AsyncSpec,
+    initial: &[P],
+    hull_initial: f64,
+) {
+    let entities: Vec<Entity> = {
+        let mut q = world.query::<(Entity, &Robot)>();
+        let mut v: Vec<(u32, Entity)> = q.iter(world).map(|(e, r)| (r.index, e)).collect();
+        v.sort_unstable_by_key(|&(i, _)| i);
+        v.into_iter().map(|(_, e)| e).collect()
+    };
+    let mut clock = AsyncClock::new(initial.len());
+    clock.committed_hull = hull_initial;
+    for (i, &e) in entities.iter().enumerate() {
+        let until = match spec.start {
+            AsyncStart::Together => 0,
+            AsyncStart::Random => duration(params, i as u32, 0, START, spec.idle),
+        };
+        clock.schedule(until, i as u32);
+        world.entity_mut(e).insert(Timing::<P> {
+            phase: Phase::Idle,
+            since: 0,
+            until,
+            cycle: 0,
+            looked: 0,
+            pending: None,
+            target: initial[i],
+        });
+    }
+    world.insert_resource(clock);
+    world.insert_resource(RobotEntities(entities));
+    schedule.configure_sets(
+        (
+            AsyncSet::Advance,
+            AsyncSet::FinishMoves,
+            AsyncSet::FinishComputes,
+            AsyncSet::Look,
+            AsyncSet::Account,
+        )
+            .chain(),
+    );
+    schedule.add_systems((
+        asynchrony::advance.in_set(AsyncSet::Advance),
+        asynchrony::finish_moves::<P>.in_set(AsyncSet::FinishMoves),
+        asynchrony::finish_computes::<P>.in_set(AsyncSet::FinishComputes),
+        asynchrony::look::<P>.in_set(AsyncSet::Look),
+        asynchrony::account::<P>.in_set(AsyncSet::Account),
+    ));
+}
+
+/// Wires a synchronous round (FSYNC, SSYNC, sequential).
+pub(super) fn wire_rounds<P: IndexPoint>(schedule: &mut Schedule) {
+    schedule.configure_sets(
+        (
+            RoundSet::Activate,
+            RoundSet::Look,
+            RoundSet::Compute,
+            RoundSet::Move,
+            RoundSet::Measure,
+        )
+            .chain(),
+    );
+    schedule.add_systems((
+        activate_robots.in_set(RoundSet::Activate),
+        take_snapshot::<P>.in_set(RoundSet::Look),
+        compute_intents::<P>.in_set(RoundSet::Compute),
+        (measure_committed::<P>, apply_moves::<P>)
+            .chain()
+            .in_set(RoundSet::Move),
+        (measure_shape::<P>, advance_clock)
+            .chain()
+            .in_set(RoundSet::Measure),
+    ));
+}
