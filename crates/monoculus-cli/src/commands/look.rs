@@ -1,7 +1,8 @@
 use std::path::PathBuf;
 
 use glam::{DVec2, DVec3};
-use monoculus_core::vision::{Sight, VisionParams};
+use monoculus_core::observe::inspect;
+use monoculus_core::vision::VisionParams;
 use monoculus_engine::{IndexPoint, IndexedSight};
 use monoculus_experiments::positions::read_positions;
 use monoculus_experiments::results::num;
@@ -62,9 +63,7 @@ pub fn look(args: LookArgs) -> Result<(), Failure> {
 
 fn look_in<P: IndexPoint>(pts: Vec<P>, args: &LookArgs) -> String {
     let axes = &["x", "y", "z"][..P::DIM];
-    let vision = VisionParams::default();
-    let sight = IndexedSight::new(pts.clone(), vision);
-    let p = pts[args.robot];
+    let sight = IndexedSight::new(pts, VisionParams::default());
     let mut out = String::new();
     let header: Vec<String> = match args.model {
         Model::Ld => ["index".to_string(), "far".to_string()]
@@ -78,25 +77,13 @@ fn look_in<P: IndexPoint>(pts: Vec<P>, args: &LookArgs) -> String {
     };
     out.push_str(&header.join(","));
     out.push('\n');
-    for j in sight.visible_points(args.robot) {
-        let d = pts[j] - p;
-        let u = d.normalized();
-        let mut row = vec![j.to_string()];
+    for seen in inspect(&sight, args.robot, args.locality) {
+        let mut row = vec![seen.index.to_string()];
         match args.model {
-            Model::Ld => row.push((d.length() > args.locality).to_string()),
-            Model::Ola => row.extend((0..P::DIM).map(|k| {
-                let c = d.axis(k);
-                (if c > vision.eps_axis {
-                    1
-                } else if c < -vision.eps_axis {
-                    -1
-                } else {
-                    0
-                })
-                .to_string()
-            })),
+            Model::Ld => row.push(seen.far.to_string()),
+            Model::Ola => row.extend(seen.sides.iter().map(i8::to_string)),
         }
-        row.extend((0..P::DIM).map(|k| num(u.axis(k))));
+        row.extend((0..P::DIM).map(|k| num(seen.direction.axis(k))));
         out.push_str(&row.join(","));
         out.push('\n');
     }

@@ -13,10 +13,12 @@
 //! after [`REJECTION_DRAWS`] misses, list all eligible points and draw one of them.
 //! Either way the result is uniform over the eligible visible points.
 
+mod inspect;
 mod ld;
 mod ola;
 mod positions;
 
+pub use inspect::{Looked, inspect};
 pub use ld::{LdObservation, Seen};
 pub use ola::{OlaObservation, Side};
 pub use positions::PositionObservation;
