@@ -7,8 +7,9 @@ use monoculus_core::vision::{ExactSight, VisionParams};
 
 use crate::{IndexPoint, IndexedSight, SchedulerSpec};
 
-/// How visibility questions are answered.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+/// How visibility questions are answered (`vision.backend = "index" | "exact"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum SightBackend {
     /// The spatial index: the band grid in the plane, the R-tree in space (the default).
     #[default]

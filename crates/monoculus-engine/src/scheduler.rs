@@ -1,9 +1,11 @@
 //! Schedulers (SPEC section 5) as data; the activation system in `systems` reads it.
 
-/// Order of the sequential scheduler.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Order of the sequential scheduler (`scheduler.order = "round_robin" | "random"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum SequentialOrder {
     /// Robot `round mod n`.
+    #[default]
     RoundRobin,
     /// A fresh random permutation of the robots for every n rounds (each robot once per
     /// cycle, in random order).

@@ -42,10 +42,12 @@ impl TickDist {
     }
 }
 
-/// How the robots start.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How the robots start (`scheduler.start = "together" | "random"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum AsyncStart {
     /// Every robot Looks at tick 0.
+    #[default]
     Together,
     /// Every robot starts Idle for one draw of the idle distribution.
     Random,

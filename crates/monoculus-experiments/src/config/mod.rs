@@ -21,8 +21,7 @@ use monoculus_core::geometry::Point;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::VisionParams;
 use monoculus_engine::{
-    AsyncSpec, AsyncStart, MAX_MAGNITUDE, SchedulerSpec, SequentialOrder, SightBackend, SimConfig,
-    StopCriterion, StopSpec, TickDist,
+    AsyncSpec, MAX_MAGNITUDE, SchedulerSpec, SimConfig, StopCriterion, StopSpec, TickDist,
 };
 
 pub use error::ConfigError;

@@ -2,7 +2,7 @@
 
 use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::errors::FactorDist;
-use monoculus_engine::TickDist;
+use monoculus_engine::{AsyncStart, SequentialOrder, SightBackend, TickDist};
 use serde::{Deserialize, Serialize};
 
 /// Which seeds every cell runs: `seeds = 100` (0..99) or `seeds = [3, 7]`.
@@ -190,17 +190,6 @@ pub struct AlgorithmSpec {
     pub target: TargetPolicy,
 }
 
-/// Visibility backends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BackendName {
-    /// The spatial index: band grid in the plane, R-tree in space.
-    #[default]
-    Index,
-    /// Brute force, for cross-checking.
-    Exact,
-}
-
 fn default_eps_ang() -> f64 {
     1e-9
 }
@@ -220,7 +209,7 @@ pub struct VisionSpec {
     pub eps_axis: Option<f64>,
     /// `index` (band grid in the plane, R-tree in space; default) or `exact` (brute force).
     #[serde(default)]
-    pub backend: BackendName,
+    pub backend: SightBackend,
 }
 
 impl Default for VisionSpec {
@@ -229,7 +218,7 @@ impl Default for VisionSpec {
             eps_pos: None,
             eps_ang: default_eps_ang(),
             eps_axis: None,
-            backend: BackendName::Index,
+            backend: SightBackend::Index,
         }
     }
 }
@@ -247,17 +236,6 @@ pub enum SchedulerKind {
     Sequential,
     /// Continuous time (ticks), per-robot cycles.
     Async,
-}
-
-/// Sequential orders.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum OrderName {
-    /// Robot round mod n.
-    #[default]
-    RoundRobin,
-    /// A random permutation per n rounds.
-    Random,
 }
 
 fn one_tick() -> TickDist {
@@ -283,7 +261,7 @@ pub struct SchedulerConfig {
     pub fairness: Option<u32>,
     /// Sequential order: `round_robin` (default) or `random`.
     #[serde(default)]
-    pub order: OrderName,
+    pub order: SequentialOrder,
     /// ASYNC: Idle durations. Default fixed 1 tick.
     #[serde(default = "one_tick")]
     pub idle: TickDist,
@@ -296,18 +274,7 @@ pub struct SchedulerConfig {
     /// ASYNC: `together` (default: everybody Looks at tick 0) or `random` (everybody
     /// starts Idle for one idle draw).
     #[serde(default)]
-    pub start: StartName,
-}
-
-/// ASYNC start.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum StartName {
-    /// Everybody Looks at tick 0.
-    #[default]
-    Together,
-    /// Random offsets.
-    Random,
+    pub start: AsyncStart,
 }
 
 /// `non_rigid = { delta_min = 0.5 }`.
@@ -362,11 +329,11 @@ impl Default for SchedulerConfig {
             kind: SchedulerKind::Fsync,
             p: default_p(),
             fairness: None,
-            order: OrderName::RoundRobin,
+            order: SequentialOrder::RoundRobin,
             idle: TickDist::ONE,
             compute: TickDist::ONE,
             motion: TickDist::ONE,
-            start: StartName::Together,
+            start: AsyncStart::Together,
         }
     }
 }

@@ -49,10 +49,7 @@ impl Cell {
                 eps_ang: v.eps_ang,
                 eps_axis: v.eps_axis.unwrap_or(defaults.eps_axis),
             },
-            backend: match v.backend {
-                BackendName::Index => SightBackend::Index,
-                BackendName::Exact => SightBackend::Exact,
-            },
+            backend: v.backend,
             scheduler: match sc.kind {
                 SchedulerKind::Fsync => SchedulerSpec::Fsync,
                 SchedulerKind::Ssync => SchedulerSpec::Ssync {
@@ -63,17 +60,9 @@ impl Cell {
                     idle: sc.idle,
                     compute: sc.compute,
                     motion: sc.motion,
-                    start: match sc.start {
-                        StartName::Together => AsyncStart::Together,
-                        StartName::Random => AsyncStart::Random,
-                    },
+                    start: sc.start,
                 }),
-                SchedulerKind::Sequential => SchedulerSpec::Sequential {
-                    order: match sc.order {
-                        OrderName::RoundRobin => SequentialOrder::RoundRobin,
-                        OrderName::Random => SequentialOrder::Random,
-                    },
-                },
+                SchedulerKind::Sequential => SchedulerSpec::Sequential { order: sc.order },
             },
             stop: StopSpec {
                 criterion: self.criterion(),
