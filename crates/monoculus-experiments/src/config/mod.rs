@@ -29,8 +29,9 @@ use error::Source;
 pub use locate::{key_at_line, line_of, line_of_offset};
 pub use overrides::apply_override;
 pub use spec::*;
+use sweep::render;
 use typed::typed;
-use validate::validate;
+use validate::{validate, validate_axes, validate_run_count};
 
 use crate::positions::{PositionsFile, read_positions};
 

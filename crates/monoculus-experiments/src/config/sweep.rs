@@ -91,38 +91,7 @@ impl Experiment {
         }
         let mut axes = Vec::new();
         collect_axes(&table, "", &mut axes);
-        if let Some(empty) = axes.iter().find(|a| a.values.is_empty()) {
-            return Err(src.error(
-                &empty.path,
-                "empty list: a swept key needs at least one value",
-            ));
-        }
-        if let Some(name) = axes.iter().find(|a| a.path == "name") {
-            return Err(src.error(&name.path, "one plain name for the experiment, not a list"));
-        }
-        for axis in &axes {
-            for (k, v) in axis.values.iter().enumerate() {
-                if axis.values[..k].contains(v) {
-                    return Err(src.error(
-                        &axis.path,
-                        format!("the list has {} twice: every cell must differ", render(v)),
-                    ));
-                }
-            }
-        }
-        let count = axes
-            .iter()
-            .try_fold(1usize, |c, a| c.checked_mul(a.values.len()))
-            .filter(|&c| c <= crate::limits::MAX_CELLS)
-            .ok_or_else(|| {
-                src.error(
-                    &axes[0].path,
-                    format!(
-                        "the sweep has more than {} cells (the product of the lists' lengths)",
-                        crate::limits::MAX_CELLS
-                    ),
-                )
-            })?;
+        let count = validate_axes(&axes, &src)?;
         let mut cells = Vec::with_capacity(count);
         let mut warnings = Vec::new();
         let mut files: HashMap<PathBuf, PositionsFile> = HashMap::new();
@@ -155,19 +124,7 @@ impl Experiment {
             });
         }
         let first = &cells[0].spec;
-        let seed_count = match &first.seeds {
-            Seeds::Count(c) => *c,
-            Seeds::List(v) => v.len() as u64,
-        };
-        if seed_count.saturating_mul(count as u64) > crate::limits::MAX_RUNS {
-            return Err(src.error(
-                "seeds",
-                format!(
-                    "{seed_count} seeds x {count} cells: at most {} runs in one experiment",
-                    crate::limits::MAX_RUNS
-                ),
-            ));
-        }
+        validate_run_count(&first.seeds, count, &src)?;
         let seeds = first.seeds.to_vec();
         let mut resolved = toml::Table::try_from(first).expect("a RunSpec serialises");
         for axis in &axes {

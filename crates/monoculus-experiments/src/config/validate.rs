@@ -2,6 +2,65 @@
 
 use super::*;
 
+/// Checks the swept keys (each list non-empty, with distinct values; `name` not swept)
+/// and returns the number of cells, refused past [`crate::limits::MAX_CELLS`].
+pub(super) fn validate_axes(axes: &[Axis], src: &Source<'_>) -> Result<usize, ConfigError> {
+    if let Some(empty) = axes.iter().find(|a| a.values.is_empty()) {
+        return Err(src.error(
+            &empty.path,
+            "empty list: a swept key needs at least one value",
+        ));
+    }
+    if let Some(name) = axes.iter().find(|a| a.path == "name") {
+        return Err(src.error(&name.path, "one plain name for the experiment, not a list"));
+    }
+    for axis in axes {
+        for (k, v) in axis.values.iter().enumerate() {
+            if axis.values[..k].contains(v) {
+                return Err(src.error(
+                    &axis.path,
+                    format!("the list has {} twice: every cell must differ", render(v)),
+                ));
+            }
+        }
+    }
+    axes.iter()
+        .try_fold(1usize, |c, a| c.checked_mul(a.values.len()))
+        .filter(|&c| c <= crate::limits::MAX_CELLS)
+        .ok_or_else(|| {
+            src.error(
+                &axes[0].path,
+                format!(
+                    "the sweep has more than {} cells (the product of the lists' lengths)",
+                    crate::limits::MAX_CELLS
+                ),
+            )
+        })
+}
+
+/// Refuses more than [`crate::limits::MAX_RUNS`] runs (cells x seeds), before the seeds
+/// are listed.
+pub(super) fn validate_run_count(
+    seeds: &Seeds,
+    cells: usize,
+    src: &Source<'_>,
+) -> Result<(), ConfigError> {
+    let seed_count = match seeds {
+        Seeds::Count(c) => *c,
+        Seeds::List(v) => v.len() as u64,
+    };
+    if seed_count.saturating_mul(cells as u64) > crate::limits::MAX_RUNS {
+        return Err(src.error(
+            "seeds",
+            format!(
+                "{seed_count} seeds x {cells} cells: at most {} runs in one experiment",
+                crate::limits::MAX_RUNS
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// A number as a person writes it: plain, or with an exponent when very large or small.
 pub(super) fn show(x: f64) -> String {
     if x != 0.0 && !(1e-6..1e16).contains(&x.abs()) {
