@@ -281,21 +281,6 @@ fn sizes_beyond_the_machine_are_refused_before_allocating() {
         one_line(&e).contains("swarm.clusters: 100000000000 clusters for 10 robots"),
         "{e}"
     );
-    // A sweep whose lists multiply past the cell limit.
-    let lists: String = (0..7)
-        .map(|k| {
-            format!(
-                "x{k} = [{}]",
-                (0..10)
-                    .map(|v| v.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let (e, _) = config_error(&GOOD.replace("[swarm]", &format!("[vision]\n{lists}\n[swarm]")));
-    assert_eq!(e.lines().count(), 1, "{e}");
     let e = fails(&["stress", "--n", "1000000000000", "--rounds", "1"]);
     assert!(
         one_line(&e).contains("--n 1000000000000: 1000000000000 robots: at most"),

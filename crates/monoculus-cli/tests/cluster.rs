@@ -81,6 +81,26 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
+/// Runs `monoculus slurm`'s scripts as Slurm would: every array task, then the merge.
+fn run_scripts(slurm_dir: &Path, tasks: usize) {
+    for k in 0..tasks {
+        let st = Command::new("bash")
+            .arg(slurm_dir.join("array.sh"))
+            .env("SLURM_ARRAY_TASK_ID", k.to_string())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .unwrap();
+        assert!(st.success(), "task {k}");
+    }
+    let st = Command::new("bash")
+        .arg(slurm_dir.join("merge.sh"))
+        .stdout(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(st.success(), "merge");
+}
+
 /// The merged folder equals the whole run: runs.csv but wall_ms, and summary.csv.
 fn assert_same_results(whole: &Path, merged: &Path) {
     assert_eq!(rows_without_wall(whole), rows_without_wall(merged));
@@ -562,21 +582,7 @@ fn slurm_scripts_run_the_shards_and_the_merge() {
         "{merge}"
     );
     // The scripts themselves, run as Slurm would run each task.
-    for k in 0..3 {
-        let st = Command::new("bash")
-            .arg(out.join("slurm/array.sh"))
-            .env("SLURM_ARRAY_TASK_ID", k.to_string())
-            .stdout(Stdio::null())
-            .status()
-            .unwrap();
-        assert!(st.success());
-    }
-    let st = Command::new("bash")
-        .arg(out.join("slurm/merge.sh"))
-        .stdout(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(st.success());
+    run_scripts(&out.join("slurm"), 3);
     let whole = tmp.path().join("whole");
     ok(&["run", s(&cfg), "--out", s(&whole), "--set", "seeds=5"]);
     assert_same_results(&whole, &out);
@@ -736,22 +742,7 @@ fn slurm_stress_writes_the_stress_array() {
         array.contains(" stress --n 100,200 --rounds 1 --threads 1 --csv "),
         "{array}"
     );
-    for k in 0..2 {
-        let st = Command::new("bash")
-            .arg(out.join("slurm/array.sh"))
-            .env("SLURM_ARRAY_TASK_ID", k.to_string())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .status()
-            .unwrap();
-        assert!(st.success());
-    }
-    let st = Command::new("bash")
-        .arg(out.join("slurm/merge.sh"))
-        .stdout(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(st.success());
+    run_scripts(&out.join("slurm"), 2);
     assert_eq!(csv_rows_without(&out.join("stress.csv"), &[]).len(), 2);
     let (code, _, e) = output(
         &[

@@ -1,5 +1,24 @@
 //! Finding the line of a dotted key in a TOML source, for error messages.
 
+/// The dotted path of a `[table]` header line, split (`[a.b]` -> `["a", "b"]`), if the
+/// line is one.
+fn table_header(line: &str) -> Option<Vec<String>> {
+    if !line.starts_with('[') || line.starts_with("[[") {
+        return None;
+    }
+    let name = line
+        .trim_start_matches('[')
+        .split(']')
+        .next()
+        .unwrap_or("")
+        .trim();
+    Some(
+        name.split('.')
+            .map(|s| s.trim().trim_matches('"').to_string())
+            .collect(),
+    )
+}
+
 /// The 1-based line on which the key `path` (e.g. `swarm.n`) is set, if found. Handles
 /// `[table]` headers, `key = value` lines and dotted keys; good enough for configs.
 pub fn line_of(source: &str, path: &str) -> Option<usize> {
@@ -8,17 +27,8 @@ pub fn line_of(source: &str, path: &str) -> Option<usize> {
     let mut header_line = None;
     for (no, raw) in source.lines().enumerate() {
         let line = raw.trim();
-        if line.starts_with('[') && !line.starts_with("[[") {
-            let name = line
-                .trim_start_matches('[')
-                .split(']')
-                .next()
-                .unwrap_or("")
-                .trim();
-            table = name
-                .split('.')
-                .map(|s| s.trim().trim_matches('"').to_string())
-                .collect();
+        if let Some(name) = table_header(line) {
+            table = name;
             if table.iter().map(String::as_str).eq(parts.iter().copied()) {
                 header_line = Some(no + 1);
             }
@@ -67,17 +77,8 @@ pub fn key_at_line(source: &str, line: usize) -> Option<String> {
             );
             return Some(full.join("."));
         }
-        if l.starts_with('[') && !l.starts_with("[[") {
-            let name = l
-                .trim_start_matches('[')
-                .split(']')
-                .next()
-                .unwrap_or("")
-                .trim();
-            table = name
-                .split('.')
-                .map(|s| s.trim().trim_matches('"').to_string())
-                .collect();
+        if let Some(name) = table_header(l) {
+            table = name;
         }
     }
     None

@@ -56,6 +56,19 @@ fn sync_parent(path: &Path) {
     }
 }
 
+/// The complete lines of a file appended line by line: its bytes up to the last newline,
+/// and whether a last line was cut short (what a kill in mid-append leaves).
+pub(crate) fn read_complete_lines(path: &Path) -> Result<(Vec<u8>, bool), ResultsError> {
+    let mut bytes = fs::read(path).map_err(io(path))?;
+    let whole = bytes
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |last| last + 1);
+    let cut = whole != bytes.len();
+    bytes.truncate(whole);
+    Ok((bytes, cut))
+}
+
 /// Replaces `path` by `bytes` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ResultsError> {
     let tmp = write_temporary(path, bytes)?;

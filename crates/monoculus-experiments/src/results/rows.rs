@@ -5,7 +5,7 @@ use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 use super::ResultsError;
-use super::fsio::{io, write_atomic};
+use super::fsio::{read_complete_lines, write_atomic};
 use super::record::{CONFIG_HASH_COLUMN, runs_header};
 use crate::config::{Experiment, RunId};
 
@@ -31,19 +31,7 @@ pub struct FoundRows {
 
 /// Reads a rows file.
 pub fn read_rows(path: &Path) -> Result<FoundRows, ResultsError> {
-    let mut bytes = std::fs::read(path).map_err(io(path))?;
-    let partial = match bytes.iter().rposition(|&b| b == b'\n') {
-        Some(last) => {
-            let cut = last + 1 != bytes.len();
-            bytes.truncate(last + 1);
-            cut
-        }
-        None => {
-            let cut = !bytes.is_empty();
-            bytes.clear();
-            cut
-        }
-    };
+    let (bytes, partial) = read_complete_lines(path)?;
     let corrupt = |e: csv::Error| ResultsError::Corrupt {
         path: path.display().to_string(),
         line: e.position().map_or(1, |p| p.line() as usize),

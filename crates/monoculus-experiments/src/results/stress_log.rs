@@ -12,12 +12,12 @@ use std::sync::Mutex;
 use serde::{Deserialize, Serialize};
 
 use super::ResultsError;
-use super::fsio::{create_if_absent, io, write_atomic};
+use super::fsio::{create_if_absent, io, read_complete_lines, write_atomic};
 use super::lock::{Lock, LockKind, holder};
 use crate::shard::Shard;
 
 /// One measurement of `monoculus stress`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StressRow {
     /// Its index in the sweep (n-major, then threads).
     pub measurement: usize,
@@ -96,30 +96,7 @@ pub fn stress_shard_path(path: &Path, shard: Shard) -> PathBuf {
 
 fn header() -> Vec<u8> {
     let mut w = csv::Writer::from_writer(vec![]);
-    w.serialize(StressRow {
-        measurement: 0,
-        measurements: 0,
-        n: 0,
-        threads: 0,
-        algorithm: String::new(),
-        scheduler: String::new(),
-        init: String::new(),
-        seed: 0,
-        rounds: 0,
-        setup_s: 0.0,
-        total_s: 0.0,
-        round_s_min: 0.0,
-        round_s_median: 0.0,
-        round_s_max: 0.0,
-        activations: 0,
-        activations_per_s: 0.0,
-        peak_memory_mb: None,
-        host: String::new(),
-        job: None,
-        monoculus_version: String::new(),
-        git_commit: String::new(),
-    })
-    .expect("memory");
+    w.serialize(StressRow::default()).expect("memory");
     let bytes = w.into_inner().expect("memory");
     let end = bytes
         .iter()
@@ -139,19 +116,7 @@ fn row_bytes(row: &StressRow) -> Vec<u8> {
 
 /// Reads a stress CSV: its rows (a last line cut short left out) and whether one was.
 pub fn read_stress(path: &Path) -> Result<(Vec<StressRow>, bool), ResultsError> {
-    let mut bytes = fs::read(path).map_err(io(path))?;
-    let cut = match bytes.iter().rposition(|&b| b == b'\n') {
-        Some(last) => {
-            let cut = last + 1 != bytes.len();
-            bytes.truncate(last + 1);
-            cut
-        }
-        None => {
-            let cut = !bytes.is_empty();
-            bytes.clear();
-            cut
-        }
-    };
+    let (bytes, cut) = read_complete_lines(path)?;
     if bytes.is_empty() {
         return Ok((Vec::new(), cut));
     }
