@@ -7,6 +7,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::PlotError;
+use monoculus_experiments::results::RunMetrics;
+
 use crate::table::{Cells, Table};
 
 /// Colours of the algorithms, in order of appearance.
@@ -84,10 +86,22 @@ pub fn plot_results(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
     runs.require_rows("runs")?;
     let (cell_col, seed_col) = (runs.col("cell")?, runs.check("seed", Cells::Whole)?);
     let algo = runs.col("algorithm")?;
-    let converged = runs.check("converged", Cells::Bool)?;
+    runs.check("converged", Cells::Bool)?;
     for metric in ["rho", "tau"] {
         runs.check(metric, Cells::NonNegative)?;
     }
+    // The outcome columns, through the schema the writer uses.
+    let metrics: Vec<RunMetrics> = runs
+        .rows
+        .iter()
+        .zip(&runs.lines)
+        .map(|(r, &line)| {
+            RunMetrics::read(&runs.header, r).map_err(|message| PlotError::Input {
+                path: format!("{}:{line}", runs.path),
+                message,
+            })
+        })
+        .collect::<Result<_, _>>()?;
     let name = runs
         .rows
         .first()
@@ -119,24 +133,24 @@ pub fn plot_results(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
             .copied()
             .filter(|&c| Some(c) != axis)
             .collect();
-        let mut groups: BTreeMap<String, Vec<&Vec<String>>> = BTreeMap::new();
-        for r in &runs.rows {
+        let mut groups: BTreeMap<String, Vec<(&Vec<String>, &RunMetrics)>> = BTreeMap::new();
+        for (r, m) in runs.rows.iter().zip(&metrics) {
             let key = others
                 .iter()
                 .map(|&c| format!("{}={}", runs.header[c], r[c]))
                 .collect::<Vec<_>>()
                 .join(", ");
-            groups.entry(key).or_default().push(r);
+            groups.entry(key).or_default().push((r, m));
         }
         for (group, rows) in &groups {
             let mut categories: Vec<String> = match axis {
-                Some(c) => rows.iter().map(|r| r[c].clone()).collect(),
+                Some(c) => rows.iter().map(|(r, _)| r[c].clone()).collect(),
                 None => vec![String::new()],
             };
             sort_values(&mut categories);
             let x_label = axis.map_or("all runs".to_string(), |c| runs.header[c].clone());
             for metric in ["rho", "tau"] {
-                let m = runs.col(metric)?;
+                let value = |m: &RunMetrics| if metric == "rho" { m.rho } else { m.tau };
                 let collect = |series: &[String]| -> Vec<Vec<Vec<f64>>> {
                     categories
                         .iter()
@@ -145,12 +159,12 @@ pub fn plot_results(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
                                 .iter()
                                 .map(|a| {
                                     rows.iter()
-                                        .filter(|r| {
+                                        .filter(|(r, m)| {
                                             axis.is_none_or(|c| &r[c] == cat)
                                                 && &r[algo] == a
-                                                && r[converged] == "true"
+                                                && m.converged
                                         })
-                                        .filter_map(|r| r[m].parse::<f64>().ok())
+                                        .map(|(_, m)| value(m))
                                         .filter(|v| v.is_finite())
                                         .collect()
                                 })

@@ -1,6 +1,6 @@
 use std::path::{Path, PathBuf};
 
-use monoculus_experiments::results::SUMMARY_COLUMNS;
+use monoculus_experiments::results::{SUMMARY_COLUMNS, SummaryStats};
 
 use super::Failure;
 
@@ -43,16 +43,12 @@ pub fn table(args: TableArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn cell(v: &str, digits: usize) -> String {
-    v.parse::<f64>()
-        .map(|x| {
-            if x.is_nan() {
-                "-".into()
-            } else {
-                format!("{x:.digits$}")
-            }
-        })
-        .unwrap_or_else(|_| v.to_string())
+fn cell(x: f64, digits: usize) -> String {
+    if x.is_nan() {
+        "-".into()
+    } else {
+        format!("{x:.digits$}")
+    }
 }
 
 /// The per-cell table of a summary.csv: parameters that vary or matter, then
@@ -131,27 +127,31 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
         "rounds median".into(),
     ]);
     rows.push(head);
+    let names: Vec<String> = header.iter().map(String::from).collect();
     for r in &records {
+        let fields: Vec<String> = r.iter().map(String::from).collect();
+        let line = r.position().map_or(0, |p| p.line());
+        let st = SummaryStats::read(&names, &fields)
+            .map_err(|m| Failure::Input(format!("{}:{line}: {m}", path.display())))?;
         let mut row: Vec<String> = params.iter().map(|&i| r[i].to_string()).collect();
-        let s = |k: usize| &r[stat_idx[k]];
         if hull {
-            row.push(format!("{}/{}", s(10), s(0)));
-            row.push(cell(s(11), 3));
+            row.push(format!("{}/{}", st.hull_grew_runs, st.runs));
+            row.push(cell(st.hull_growth_max_median, 3));
         }
-        row.push(format!("{}/{}", s(1), s(0)));
+        row.push(format!("{}/{}", st.converged, st.runs));
         row.push(format!(
             "{} [{}, {}]",
-            cell(s(2), 3),
-            cell(s(3), 3),
-            cell(s(4), 3)
+            cell(st.rho_median, 3),
+            cell(st.rho_q1, 3),
+            cell(st.rho_q3, 3)
         ));
         row.push(format!(
             "{} [{}, {}]",
-            cell(s(5), 3),
-            cell(s(6), 3),
-            cell(s(7), 3)
+            cell(st.tau_median, 3),
+            cell(st.tau_q1, 3),
+            cell(st.tau_q3, 3)
         ));
-        row.push(cell(s(8), 1));
+        row.push(cell(st.rounds_median, 1));
         rows.push(row);
     }
     let widths: Vec<usize> = (0..rows[0].len())

@@ -16,11 +16,12 @@ pub use lock::{Lock, LockKind};
 pub use merge::{MergeReport, MissingRuns, merge};
 pub use provenance::{Attempt, GIT_COMMIT, Provenance, VERSION, config_hash, host_name};
 pub use record::{
-    CONFIG_HASH_COLUMN, METRIC_COLUMNS, PARAM_COLUMNS, num, param_header, run_row, runs_header,
+    CONFIG_HASH_COLUMN, METRIC_COLUMNS, PARAM_COLUMNS, RunMetrics, num, param_header, read_from,
+    run_row, runs_header,
 };
 pub use rows::{FoundRows, RunRows, read_rows, write_rows};
 pub use store::{LOCK_FILE, OpenSpec, ResultsDir, ResultsError, SHARDS_DIR, shard_files};
 pub use stress_log::{
     StressLog, StressMerge, StressRow, merge_stress, read_stress, stress_shard_path,
 };
-pub use summary::{CellStats, SUMMARY_COLUMNS, quantile, write_summary};
+pub use summary::{CellStats, SUMMARY_COLUMNS, SummaryStats, quantile, write_summary};

@@ -118,6 +118,226 @@ fn serde_name<T: serde::Serialize>(value: &T) -> String {
     }
 }
 
+/// The outcome part of a row of `runs.csv`, from `seed` to `config_hash`: the schema of
+/// those columns, used by the writer and by every reader (summaries, tables, figures),
+/// so that a renamed column is a compile error. Numbers are written in their shortest
+/// round-trip form (`0.1`, `100`, `inf`); `wall_ms` to the microsecond.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunMetrics {
+    /// The seed.
+    pub seed: u64,
+    /// Rounds (ASYNC: epochs) when the criterion first held.
+    pub rounds: u64,
+    /// Activations.
+    pub activations: u64,
+    /// Activations that moved.
+    pub moves: u64,
+    /// Sum of max(0, d_i - c/2).
+    #[serde(with = "plain")]
+    pub d_opt: f64,
+    /// Largest distance to the initial centroid.
+    #[serde(with = "plain")]
+    pub d_max: f64,
+    /// moves * b / d_opt.
+    #[serde(with = "plain")]
+    pub rho: f64,
+    /// rounds / d_max.
+    #[serde(with = "plain")]
+    pub tau: f64,
+    /// Whether the criterion held before `max_rounds`.
+    pub converged: bool,
+    /// Diameter at the end.
+    #[serde(with = "plain")]
+    pub final_diameter: f64,
+    /// Extent on x at the end.
+    #[serde(with = "plain_opt")]
+    pub final_extent_x: Option<f64>,
+    /// Extent on y at the end.
+    #[serde(with = "plain_opt")]
+    pub final_extent_y: Option<f64>,
+    /// Extent on z at the end (empty in the plane).
+    #[serde(with = "plain_opt")]
+    pub final_extent_z: Option<f64>,
+    /// Hull area (volume) at the start.
+    #[serde(with = "plain")]
+    pub hull_area_initial: f64,
+    /// Hull area (volume) at the end.
+    #[serde(with = "plain")]
+    pub hull_area_final: f64,
+    /// Largest hull area (volume) during the run.
+    #[serde(with = "plain")]
+    pub hull_area_max: f64,
+    /// Rounds (ASYNC: ticks) in which the hull grew.
+    pub hull_growth_rounds: u64,
+    /// Whether the hull ever grew.
+    pub hull_grew: bool,
+    /// Largest relative growth of the hull in one round.
+    #[serde(with = "plain")]
+    pub hull_growth_max: f64,
+    /// Rounds in which the hull of positions and decided destinations grew.
+    pub committed_hull_growth: u64,
+    /// Robots with every termination bit set (the termination algorithm only).
+    pub terminated: Option<u64>,
+    /// Total distance travelled.
+    #[serde(with = "plain")]
+    pub distance: f64,
+    /// The stop criterion in force.
+    pub stop_criterion: String,
+    /// ASYNC: the tick at which the run stopped.
+    pub ticks: Option<u64>,
+    /// Wall time of the run, ms.
+    #[serde(with = "millis")]
+    pub wall_ms: f64,
+    /// [`crate::results::config_hash`] of the experiment's `config.toml`.
+    pub config_hash: String,
+}
+
+/// Floats as `{}` prints them (the shortest form that reads back to the same bits).
+pub(crate) mod plain {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("{x}"))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        let text = <std::borrow::Cow<'de, str>>::deserialize(d)?;
+        text.parse()
+            .map_err(|_| serde::de::Error::custom(format!("`{text}` is not a number")))
+    }
+}
+
+/// Optional floats: empty when absent.
+mod plain_opt {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match x {
+            Some(x) => s.serialize_str(&format!("{x}")),
+            None => s.serialize_str(""),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+        let text = <std::borrow::Cow<'de, str>>::deserialize(d)?;
+        if text.is_empty() {
+            return Ok(None);
+        }
+        text.parse()
+            .map(Some)
+            .map_err(|_| serde::de::Error::custom(format!("`{text}` is not a number")))
+    }
+}
+
+/// Milliseconds to the microsecond.
+mod millis {
+    use serde::{Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("{x:.3}"))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        super::plain::deserialize(d)
+    }
+}
+
+impl RunMetrics {
+    /// The metrics of one finished run of `cell`.
+    pub fn of(exp: &Experiment, cell: &Cell, seed: u64, o: &RunOutcome, wall_ms: f64) -> Self {
+        RunMetrics {
+            seed,
+            rounds: o.rounds,
+            activations: o.activations,
+            moves: o.moves,
+            d_opt: o.d_opt,
+            d_max: o.d_max,
+            rho: o.rho(cell.spec.algorithm.step),
+            tau: o.tau(),
+            converged: o.converged,
+            final_diameter: o.final_diameter,
+            final_extent_x: o.final_extents.first().copied(),
+            final_extent_y: o.final_extents.get(1).copied(),
+            final_extent_z: o.final_extents.get(2).copied(),
+            hull_area_initial: o.hull_initial,
+            hull_area_final: o.hull_final,
+            hull_area_max: o.hull_max,
+            hull_growth_rounds: o.hull_growth_rounds,
+            hull_grew: o.hull_growth_rounds > 0,
+            hull_growth_max: o.hull_growth_max,
+            committed_hull_growth: o.committed_hull_growth,
+            terminated: o.terminated,
+            distance: o.distance,
+            stop_criterion: cell.criterion().name().to_string(),
+            ticks: o.ticks,
+            wall_ms,
+            config_hash: exp.hash.clone(),
+        }
+    }
+
+    /// The fields as written, in column order.
+    pub fn fields(&self) -> Vec<String> {
+        fields_of(self)
+    }
+
+    /// Reads the metrics of a row whose columns are `header`, from its `seed` column on.
+    pub fn read(header: &[String], row: &[String]) -> Result<RunMetrics, String> {
+        read_from(header, row, "seed")
+    }
+}
+
+/// The fields of a serialised record, in column order.
+pub(crate) fn fields_of<T: serde::Serialize>(value: &T) -> Vec<String> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(vec![]);
+    w.serialize(value).expect("a row serialises");
+    let bytes = w.into_inner().expect("memory");
+    let mut r = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(bytes.as_slice());
+    r.records()
+        .next()
+        .expect("one record")
+        .expect("its own output")
+        .iter()
+        .map(String::from)
+        .collect()
+}
+
+/// Reads a typed record from the columns of `row` (named by `header`) from column `first`
+/// on; an error names the column.
+pub fn read_from<T: serde::de::DeserializeOwned>(
+    header: &[String],
+    row: &[String],
+    first: &str,
+) -> Result<T, String> {
+    let from = header
+        .iter()
+        .position(|h| h == first)
+        .ok_or_else(|| format!("no column {first}"))?;
+    if row.len() != header.len() {
+        return Err(format!("{} fields for {} columns", row.len(), header.len()));
+    }
+    let head = csv::StringRecord::from(header[from..].to_vec());
+    let rec = csv::StringRecord::from(row[from..].to_vec());
+    rec.deserialize(Some(&head)).map_err(|e| {
+        let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
+            return e.to_string();
+        };
+        let message = err.kind().to_string();
+        // The column: as serde reports it, or the one holding the quoted value.
+        let quoted = message.split('`').nth(1);
+        let column = err.field().map(|k| from + k as usize).or_else(|| {
+            quoted.and_then(|v| row[from..].iter().position(|c| c == v).map(|k| from + k))
+        });
+        match column.and_then(|c| header.get(c)) {
+            Some(name) => format!("column {name}: {message}"),
+            None => message,
+        }
+    })
+}
+
 /// The full row of one finished run.
 pub fn run_row(
     exp: &Experiment,
@@ -126,36 +346,67 @@ pub fn run_row(
     o: &RunOutcome,
     wall_ms: f64,
 ) -> Vec<String> {
-    let step = cell.spec.algorithm.step;
     let mut v = param_values(exp, cell);
-    v.push(seed.to_string());
-    let ext = |k: usize| o.final_extents.get(k).copied().map(num).unwrap_or_default();
-    v.extend([
-        o.rounds.to_string(),
-        o.activations.to_string(),
-        o.moves.to_string(),
-        num(o.d_opt),
-        num(o.d_max),
-        num(o.rho(step)),
-        num(o.tau()),
-        o.converged.to_string(),
-        num(o.final_diameter),
-        ext(0),
-        ext(1),
-        ext(2),
-        num(o.hull_initial),
-        num(o.hull_final),
-        num(o.hull_max),
-        o.hull_growth_rounds.to_string(),
-        (o.hull_growth_rounds > 0).to_string(),
-        num(o.hull_growth_max),
-        o.committed_hull_growth.to_string(),
-        o.terminated.map(|t| t.to_string()).unwrap_or_default(),
-        num(o.distance),
-        cell.criterion().name().to_string(),
-        o.ticks.map(|t| t.to_string()).unwrap_or_default(),
-        format!("{wall_ms:.3}"),
-        exp.hash.clone(),
-    ]);
+    v.extend(RunMetrics::of(exp, cell, seed, o, wall_ms).fields());
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_schema_is_the_header() {
+        let mut w = csv::Writer::from_writer(vec![]);
+        let m = RunMetrics {
+            seed: 3,
+            rounds: 12,
+            activations: 100,
+            moves: 40,
+            d_opt: 0.1,
+            d_max: 1e-7,
+            rho: f64::INFINITY,
+            tau: 100.0,
+            converged: true,
+            final_diameter: 1.5,
+            final_extent_x: Some(1.0),
+            final_extent_y: Some(0.25),
+            final_extent_z: None,
+            hull_area_initial: 2.0,
+            hull_area_final: 1.0,
+            hull_area_max: 2.0,
+            hull_growth_rounds: 0,
+            hull_grew: false,
+            hull_growth_max: 0.0,
+            committed_hull_growth: 0,
+            terminated: None,
+            distance: 40.0,
+            stop_criterion: "box".into(),
+            ticks: Some(9),
+            wall_ms: 1.23456,
+            config_hash: "00ff".into(),
+        };
+        w.serialize(&m).unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        let mut lines = text.lines();
+        let mut want = vec!["seed".to_string()];
+        want.extend(METRIC_COLUMNS.iter().map(|c| c.to_string()));
+        want.push(CONFIG_HASH_COLUMN.into());
+        assert_eq!(lines.next().unwrap(), want.join(","));
+        assert_eq!(
+            lines.next().unwrap(),
+            "3,12,100,40,0.1,0.0000001,inf,100,true,1.5,1,0.25,,2,1,2,0,false,0,0,,40,box,9,1.235,00ff"
+        );
+        let header: Vec<String> = want.clone();
+        let back = RunMetrics::read(&header, &m.fields()).unwrap();
+        assert_eq!(back.seed, 3);
+        assert_eq!(back.rho, f64::INFINITY);
+        assert_eq!(back.final_extent_z, None);
+        let mut bad = m.fields();
+        bad[6] = "1.2.3".into();
+        assert_eq!(
+            RunMetrics::read(&header, &bad).unwrap_err(),
+            "column rho: `1.2.3` is not a number"
+        );
+    }
 }

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::ResultsError;
 use super::fsio::write_atomic;
-use super::record::{num, param_header, param_values};
+use super::record::{RunMetrics, fields_of, param_header, param_values, plain, read_from};
 use super::rows::RunRows;
 use crate::config::Experiment;
 
@@ -77,6 +77,70 @@ pub const SUMMARY_COLUMNS: [&str; 12] = [
     "hull_growth_max_median",
 ];
 
+/// The statistics part of a row of `summary.csv`, after the cell's parameters: the
+/// schema of those columns, used by the writer and by `monoculus table`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SummaryStats {
+    /// Runs of the cell.
+    pub runs: u64,
+    /// Converged runs.
+    pub converged: u64,
+    /// Median of rho over the converged runs (NaN: none).
+    #[serde(with = "plain")]
+    pub rho_median: f64,
+    /// First quartile of rho.
+    #[serde(with = "plain")]
+    pub rho_q1: f64,
+    /// Third quartile of rho.
+    #[serde(with = "plain")]
+    pub rho_q3: f64,
+    /// Median of tau.
+    #[serde(with = "plain")]
+    pub tau_median: f64,
+    /// First quartile of tau.
+    #[serde(with = "plain")]
+    pub tau_q1: f64,
+    /// Third quartile of tau.
+    #[serde(with = "plain")]
+    pub tau_q3: f64,
+    /// Median of rounds.
+    #[serde(with = "plain")]
+    pub rounds_median: f64,
+    /// Third quartile of rounds.
+    #[serde(with = "plain")]
+    pub rounds_q3: f64,
+    /// Runs in which the hull grew.
+    pub hull_grew_runs: u64,
+    /// Over those runs, the median of the largest relative growth in one round.
+    #[serde(with = "plain")]
+    pub hull_growth_max_median: f64,
+}
+
+impl SummaryStats {
+    /// The statistics of one cell's runs.
+    pub fn of(s: &CellStats) -> Self {
+        SummaryStats {
+            runs: s.runs as u64,
+            converged: s.converged as u64,
+            rho_median: quantile(&s.rho, 0.5),
+            rho_q1: quantile(&s.rho, 0.25),
+            rho_q3: quantile(&s.rho, 0.75),
+            tau_median: quantile(&s.tau, 0.5),
+            tau_q1: quantile(&s.tau, 0.25),
+            tau_q3: quantile(&s.tau, 0.75),
+            rounds_median: quantile(&s.rounds, 0.5),
+            rounds_q3: quantile(&s.rounds, 0.75),
+            hull_grew_runs: s.hull_grew as u64,
+            hull_growth_max_median: quantile(&s.hull_growth, 0.5),
+        }
+    }
+
+    /// Reads the statistics of a row of `summary.csv` (columns `header`).
+    pub fn read(header: &[String], row: &[String]) -> Result<SummaryStats, String> {
+        read_from(header, row, "runs")
+    }
+}
+
 /// The header: parameters then statistics.
 pub fn summary_header(params: &[String]) -> Vec<String> {
     let mut h = params.to_vec();
@@ -86,60 +150,27 @@ pub fn summary_header(params: &[String]) -> Vec<String> {
 
 /// One cell's row.
 pub fn summary_row(mut params: Vec<String>, s: &CellStats) -> Vec<String> {
-    params.extend([
-        s.runs.to_string(),
-        s.converged.to_string(),
-        num(quantile(&s.rho, 0.5)),
-        num(quantile(&s.rho, 0.25)),
-        num(quantile(&s.rho, 0.75)),
-        num(quantile(&s.tau, 0.5)),
-        num(quantile(&s.tau, 0.25)),
-        num(quantile(&s.tau, 0.75)),
-        num(quantile(&s.rounds, 0.5)),
-        num(quantile(&s.rounds, 0.75)),
-        s.hull_grew.to_string(),
-        num(quantile(&s.hull_growth, 0.5)),
-    ]);
+    params.extend(fields_of(&SummaryStats::of(s)));
     params
 }
 
 /// Writes `summary.csv` (atomically) from checked rows: one row per cell that has runs,
 /// each run counted once.
 pub fn write_summary(path: &Path, exp: &Experiment, rows: &RunRows) -> Result<(), ResultsError> {
-    let col = |name: &str| {
-        rows.header
-            .iter()
-            .position(|h| h == name)
-            .expect("runs header")
-    };
-    let (rho, tau, rounds, converged, growth) = (
-        col("rho"),
-        col("tau"),
-        col("rounds"),
-        col("converged"),
-        col("hull_growth_max"),
-    );
     let mut stats: Vec<CellStats> = exp.cells.iter().map(|_| CellStats::default()).collect();
     let mut unique = std::collections::HashSet::new();
     for ((row, id), &line) in rows.rows.iter().zip(&rows.ids).zip(&rows.lines) {
         if !unique.insert(*id) {
             continue;
         }
-        let parse = |c: usize| -> Result<f64, ResultsError> {
-            row[c].parse::<f64>().map_err(|_| ResultsError::Corrupt {
-                path: path.with_file_name("runs.csv").display().to_string(),
-                line,
-                message: format!("column {}: `{}` is not a number", rows.header[c], row[c]),
-            })
-        };
+        let m = RunMetrics::read(&rows.header, row).map_err(|message| ResultsError::Corrupt {
+            path: path.with_file_name("runs.csv").display().to_string(),
+            line,
+            message,
+        })?;
         let s = &mut stats[id.cell];
-        s.add(
-            parse(rho)?,
-            parse(tau)?,
-            parse(rounds)?,
-            row[converged] == "true",
-        );
-        s.add_hull(parse(growth)?);
+        s.add(m.rho, m.tau, m.rounds as f64, m.converged);
+        s.add_hull(m.hull_growth_max);
     }
     let mut out = csv::WriterBuilder::new().from_writer(vec![]);
     out.write_record(summary_header(&param_header(exp)))
@@ -156,6 +187,19 @@ pub fn write_summary(path: &Path, exp: &Experiment, rows: &RunRows) -> Result<()
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_schema_is_the_header() {
+        let row = fields_of(&SummaryStats::of(&CellStats::default()));
+        let mut w = csv::Writer::from_writer(vec![]);
+        w.serialize(SummaryStats::of(&CellStats::default()))
+            .unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        assert_eq!(text.lines().next().unwrap(), SUMMARY_COLUMNS.join(","));
+        assert_eq!(row[2], "NaN");
+        let header: Vec<String> = SUMMARY_COLUMNS.iter().map(|c| c.to_string()).collect();
+        assert_eq!(fields_of(&SummaryStats::read(&header, &row).unwrap()), row);
+    }
 
     #[test]
     fn quantiles_match_numpy() {
