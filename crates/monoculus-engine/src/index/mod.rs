@@ -4,11 +4,17 @@
 
 mod index_point;
 mod indexed_sight;
+mod plane_index;
 mod segment_grid;
+mod space_index;
+mod spatial_index;
 mod tube;
 
 pub use index_point::IndexPoint;
 pub use indexed_sight::IndexedSight;
+pub use plane_index::PlaneIndex;
 pub(crate) use segment_grid::prefetch;
 pub use segment_grid::{SegmentGrid, Stale};
+pub use space_index::SpaceIndex;
+pub use spatial_index::SpatialIndex;
 pub use tube::Tube;
