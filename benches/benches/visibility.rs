@@ -1,12 +1,14 @@
 //! Visibility queries, index building, the hull, one round per algorithm, a late round
-//! of a large ConvergeLocality run, one small paper run.
+//! of a large ConvergeLocality run, one small paper run, a stretch of ASYNC ticks.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use monoculus_benches::{late_locality, lattice, paper_config, unit_density};
 use monoculus_core::algorithms::{AlgorithmKind, TargetPolicy};
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::{Sight, VisionParams, visible_points_sweep_2d};
-use monoculus_engine::{IndexedSight, SegmentGrid, Simulation};
+use monoculus_engine::{
+    AsyncSpec, AsyncStart, IndexedSight, SchedulerSpec, SegmentGrid, Simulation, TickDist,
+};
 use std::hint::black_box;
 
 fn queries(c: &mut Criterion) {
@@ -185,6 +187,53 @@ fn paper_run(c: &mut Criterion) {
     g.finish();
 }
 
+/// One stretch of 20 ASYNC event ticks of ConvergeLocality (random_rejection) on a square
+/// of density 1, after one epoch: coarse durations (idle U(1,10), compute U(1,5), move
+/// Exp(4)) and the same x 100, whose ticks have few Looks each.
+fn async_stretch(c: &mut Criterion) {
+    let mut g = c.benchmark_group("async_stretch");
+    g.sample_size(10);
+    let coarse = AsyncSpec {
+        idle: TickDist::Uniform { min: 1, max: 10 },
+        compute: TickDist::Uniform { min: 1, max: 5 },
+        motion: TickDist::Exponential { mean: 4.0 },
+        start: AsyncStart::Random,
+    };
+    let fine = AsyncSpec {
+        idle: TickDist::Uniform { min: 1, max: 1000 },
+        compute: TickDist::Uniform { min: 1, max: 500 },
+        motion: TickDist::Exponential { mean: 400.0 },
+        start: AsyncStart::Random,
+    };
+    for n in [10_000usize, 100_000] {
+        for (label, timing) in [("coarse", coarse), ("x100", fine)] {
+            let pts = unit_density(n, 6);
+            g.bench_function(BenchmarkId::new(label, n), |b| {
+                b.iter_batched_ref(
+                    || {
+                        let mut cfg = paper_config(AlgorithmKind::ConvergeLocality, 6);
+                        cfg.algorithm.target = TargetPolicy::RandomRejection;
+                        cfg.scheduler = SchedulerSpec::Async(timing);
+                        let mut sim = Simulation::new(cfg, pts.clone()).unwrap();
+                        while sim.async_progress().is_some_and(|(_, e)| e == 0) {
+                            sim.step();
+                        }
+                        sim
+                    },
+                    |sim| {
+                        for _ in 0..20 {
+                            sim.step();
+                        }
+                        sim.activations()
+                    },
+                    criterion::BatchSize::PerIteration,
+                )
+            });
+        }
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     queries,
@@ -192,6 +241,7 @@ criterion_group!(
     hull,
     one_round,
     late_round,
-    paper_run
+    paper_run,
+    async_stretch
 );
 criterion_main!(benches);

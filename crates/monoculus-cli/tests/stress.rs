@@ -61,6 +61,58 @@ fn stress_reports_rounds_memory_and_throughput_last() {
 }
 
 #[test]
+fn stress_measures_async_epochs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let csv = tmp.path().join("s.csv");
+    let out = monoculus(&[
+        "stress",
+        "--n",
+        "300",
+        "--rounds",
+        "2",
+        "--scheduler",
+        "async",
+        "--idle",
+        "uniform:1:20",
+        "--move",
+        "exp:8",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let epochs: Vec<&str> = text.lines().filter(|l| l.starts_with("epoch ")).collect();
+    assert_eq!(epochs.len(), 2, "{text}");
+    // In an epoch every robot completes a cycle: at least one Look each.
+    for e in &epochs {
+        let looks: u64 = e
+            .split(", ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(looks >= 300, "{e}");
+    }
+    let mut r = csv::Reader::from_path(&csv).unwrap();
+    let h = r.headers().unwrap().clone();
+    let row = r.records().next().unwrap().unwrap();
+    let col = |name: &str| &row[h.iter().position(|c| c == name).unwrap()];
+    assert_eq!(col("scheduler"), "async");
+    assert_eq!(
+        col("timing"),
+        "idle=uniform:1:20 compute=uniform:1:5 move=exp:8 start=random"
+    );
+    assert_eq!(col("rounds"), "2");
+}
+
+#[test]
 fn stress_rejects_bad_arguments() {
     for args in [
         &["stress", "--n", "0", "--rounds", "1"][..],
@@ -74,6 +126,18 @@ fn stress_rejects_bad_arguments() {
             "teleport",
         ][..],
         &["stress", "--n", "10"][..],
+        &["stress", "--n", "10", "--rounds", "1", "--move", "exp:4"][..],
+        &[
+            "stress",
+            "--n",
+            "10",
+            "--rounds",
+            "1",
+            "--scheduler",
+            "async",
+            "--idle",
+            "uniform:5:2",
+        ][..],
     ] {
         let out = monoculus(args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

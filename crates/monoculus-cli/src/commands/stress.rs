@@ -4,7 +4,7 @@ use std::time::Instant;
 use glam::DVec2;
 use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::init::{InitShape, generate};
-use monoculus_engine::{SimConfig, Simulation};
+use monoculus_engine::{AsyncSpec, AsyncStart, SchedulerSpec, SimConfig, Simulation, TickDist};
 use monoculus_experiments::results::{
     Attempt, GIT_COMMIT, StressLog, StressRow, VERSION, host_name, quantile, stress_shard_path,
 };
@@ -30,6 +30,22 @@ impl Shape {
     }
 }
 
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum Sched {
+    /// Fully synchronous rounds.
+    Fsync,
+    /// Continuous time: per-robot cycles of random durations; a "round" is an epoch.
+    Async,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum Start {
+    /// Every robot Looks at tick 0.
+    Together,
+    /// Every robot starts Idle for one idle draw.
+    Random,
+}
+
 #[derive(clap::Args, Debug)]
 pub struct StressArgs {
     /// Number of robots; a list (`--n 10000,100000`) measures each.
@@ -51,6 +67,23 @@ pub struct StressArgs {
     /// Start configuration.
     #[arg(long, value_enum, default_value = "square")]
     init: Shape,
+    /// Scheduler: fsync rounds, or async epochs (the shortest spans in which every robot
+    /// completed a cycle).
+    #[arg(long, value_enum, default_value = "fsync")]
+    scheduler: Sched,
+    /// ASYNC Idle durations in ticks: fixed:T, uniform:MIN:MAX or exp:MEAN (default
+    /// uniform:1:10).
+    #[arg(long)]
+    idle: Option<String>,
+    /// ASYNC Compute durations (default uniform:1:5).
+    #[arg(long)]
+    compute: Option<String>,
+    /// ASYNC Move durations (default exp:4).
+    #[arg(long = "move")]
+    motion: Option<String>,
+    /// ASYNC start (default random).
+    #[arg(long, value_enum)]
+    start: Option<Start>,
     /// Append one row per measurement to this CSV (resumable: measurements already in it
     /// are skipped).
     #[arg(long)]
@@ -111,6 +144,7 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
             .map(|&t| threads_wanted(Some(t)))
             .collect::<Result<_, _>>()?
     };
+    let timing = async_timing(&args)?;
     let shard: Option<Shard> = args.shard.as_deref().map(parse_shard).transpose()?;
     if shard.is_some() && args.csv.is_none() {
         return Err(Failure::Input(
@@ -161,7 +195,8 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
             n: plan.n,
             threads: pool.current_num_threads(),
             algorithm: kind.name().into(),
-            scheduler: "fsync".into(),
+            scheduler: if timing.is_some() { "async" } else { "fsync" }.into(),
+            timing: timing.as_ref().map_or_else(String::new, timing_label),
             init: args.init.name().into(),
             seed: args.seed,
             rounds: args.rounds,
@@ -186,7 +221,7 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
             continue;
         }
         reset_peak_rss();
-        measure(kind, args.init, &pool, &mut row)?;
+        measure(kind, args.init, timing, &pool, &mut row)?;
         if let Some(l) = &log {
             l.append(&row)?;
         }
@@ -194,10 +229,53 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Builds the swarm and times the rounds, filling `row`'s figures.
+/// The ASYNC timing of `--scheduler async` (its options refused otherwise).
+fn async_timing(args: &StressArgs) -> Result<Option<AsyncSpec>, Failure> {
+    let given = args.idle.is_some()
+        || args.compute.is_some()
+        || args.motion.is_some()
+        || args.start.is_some();
+    if args.scheduler == Sched::Fsync {
+        if given {
+            return Err(Failure::Input(
+                "--idle, --compute, --move and --start need --scheduler async".into(),
+            ));
+        }
+        return Ok(None);
+    }
+    let dist = |flag: &str, v: &Option<String>, default: &str| {
+        TickDist::parse(v.as_deref().unwrap_or(default))
+            .map_err(|m| Failure::Input(format!("--{flag} {m}")))
+    };
+    Ok(Some(AsyncSpec {
+        idle: dist("idle", &args.idle, "uniform:1:10")?,
+        compute: dist("compute", &args.compute, "uniform:1:5")?,
+        motion: dist("move", &args.motion, "exp:4")?,
+        start: match args.start.unwrap_or(Start::Random) {
+            Start::Together => AsyncStart::Together,
+            Start::Random => AsyncStart::Random,
+        },
+    }))
+}
+
+fn timing_label(t: &AsyncSpec) -> String {
+    format!(
+        "idle={} compute={} move={} start={}",
+        t.idle.label(),
+        t.compute.label(),
+        t.motion.label(),
+        match t.start {
+            AsyncStart::Together => "together",
+            AsyncStart::Random => "random",
+        }
+    )
+}
+
+/// Builds the swarm and times the rounds (ASYNC: epochs), filling `row`'s figures.
 fn measure(
     kind: AlgorithmKind,
     init: Shape,
+    timing: Option<AsyncSpec>,
     pool: &rayon::ThreadPool,
     row: &mut StressRow,
 ) -> Result<(), Failure> {
@@ -208,13 +286,21 @@ fn measure(
     };
     let setup = Instant::now();
     let start: Vec<DVec2> = generate(&shape, row.n, row.seed);
-    let config = SimConfig::paper(kind, row.seed, u64::MAX);
+    let mut config = SimConfig::paper(kind, row.seed, u64::MAX);
+    if let Some(t) = timing {
+        config.scheduler = SchedulerSpec::Async(t);
+    }
     let mut sim = Simulation::new(config, start).map_err(|e| Failure::Input(e.to_string()))?;
     row.setup_s = setup.elapsed().as_secs_f64();
     eprintln!(
-        "stress: {} robots, {} FSYNC rounds of {}, {} threads (setup {:.2} s)",
+        "stress: {} robots, {} {} of {}, {} threads (setup {:.2} s)",
         row.n,
         row.rounds,
+        if timing.is_some() {
+            "ASYNC epochs"
+        } else {
+            "FSYNC rounds"
+        },
         kind.name(),
         row.threads,
         row.setup_s
@@ -222,6 +308,25 @@ fn measure(
     let mut times = Vec::with_capacity(row.rounds.min(1 << 16) as usize);
     for round in 1..=row.rounds {
         let t = Instant::now();
+        if timing.is_some() {
+            let (tick0, epochs0) = sim.async_progress().expect("an ASYNC run");
+            let before = sim.activations();
+            pool.install(|| {
+                while sim.async_progress().is_some_and(|(_, e)| e == epochs0) {
+                    sim.step();
+                }
+            });
+            let dt = t.elapsed().as_secs_f64();
+            let (tick, _) = sim.async_progress().expect("an ASYNC run");
+            let activated = sim.activations() - before;
+            times.push(dt);
+            row.activations += activated;
+            outln!(
+                "epoch {round}: {dt:.3} s, {activated} activations, {} ticks",
+                tick - tick0
+            );
+            continue;
+        }
         let (moving, activated) = pool.install(|| {
             sim.step();
             sim.round_counts()

@@ -31,6 +31,45 @@ impl TickDist {
     /// One tick.
     pub const ONE: TickDist = TickDist::Fixed { ticks: 1 };
 
+    /// Reads `fixed:T`, `uniform:MIN:MAX` or `exp:MEAN` (the command line's form).
+    pub fn parse(text: &str) -> Result<TickDist, String> {
+        let bad = || {
+            format!("`{text}`: expected fixed:T, uniform:MIN:MAX or exp:MEAN (ticks, at least 1)")
+        };
+        let parts: Vec<&str> = text.split(':').collect();
+        let whole = |s: &str| s.trim().parse::<u64>().ok().filter(|&t| t >= 1);
+        let d = match parts.as_slice() {
+            ["fixed", t] => TickDist::Fixed {
+                ticks: whole(t).ok_or_else(bad)?,
+            },
+            ["uniform", a, b] => {
+                let (min, max) = (whole(a).ok_or_else(bad)?, whole(b).ok_or_else(bad)?);
+                if max < min {
+                    return Err(bad());
+                }
+                TickDist::Uniform { min, max }
+            }
+            ["exp", m] => {
+                let mean: f64 = m.trim().parse().map_err(|_| bad())?;
+                if !(mean > 0.0 && mean <= 1e12) {
+                    return Err(bad());
+                }
+                TickDist::Exponential { mean }
+            }
+            _ => return Err(bad()),
+        };
+        Ok(d)
+    }
+
+    /// The command line's form of the distribution.
+    pub fn label(&self) -> String {
+        match *self {
+            TickDist::Fixed { ticks } => format!("fixed:{ticks}"),
+            TickDist::Uniform { min, max } => format!("uniform:{min}:{max}"),
+            TickDist::Exponential { mean } => format!("exp:{mean}"),
+        }
+    }
+
     /// One draw, at least 1 tick.
     pub fn sample(&self, stream: &mut Stream) -> u64 {
         let t = match *self {

@@ -218,6 +218,18 @@ impl<P: IndexPoint> Simulation<P> {
         }
     }
 
+    /// Activations so far.
+    pub fn activations(&self) -> u64 {
+        self.world.resource::<Tally>().activations
+    }
+
+    /// Under ASYNC, the current tick and the epochs completed; `None` otherwise.
+    pub fn async_progress(&self) -> Option<(u64, u64)> {
+        self.world
+            .get_resource::<AsyncClock>()
+            .map(|c| (c.tick, c.epochs))
+    }
+
     /// Runs one round (Activate, Look, Compute, Move, Measure), or under ASYNC one
     /// event tick (Advance, FinishMoves, FinishComputes, Look, Account).
     pub fn step(&mut self) {

@@ -31,11 +31,14 @@ pub struct StressRow {
     pub algorithm: String,
     /// Scheduler.
     pub scheduler: String,
+    /// ASYNC: the phase durations (`idle=uniform:1:10 compute=uniform:1:5 move=exp:4
+    /// start=random`); empty otherwise.
+    pub timing: String,
     /// Start configuration.
     pub init: String,
     /// Seed.
     pub seed: u64,
-    /// Rounds timed.
+    /// Rounds timed (ASYNC: epochs).
     pub rounds: u64,
     /// Building the swarm and the simulation, seconds.
     pub setup_s: f64,
