@@ -38,6 +38,12 @@ fn the_good_config_passes() {
     std::fs::write(&path, GOOD).unwrap();
     let out = monoculus(&["check", path.to_str().unwrap()]);
     assert!(out.status.success());
+    // check reports the memory a run needs: 10 robots at 256 bytes each plus 16 MiB.
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("memory: about 16.8 MB per run (n = 10)"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -91,11 +91,7 @@ pub fn run_experiment(
     let total = runs.len();
     let pending: Vec<RunId> = runs
         .into_iter()
-        .filter(|r| {
-            !results
-                .done
-                .contains(&(exp.cells[r.cell].key.clone(), r.seed))
-        })
+        .filter(|r| !results.done.contains(r))
         .collect();
     let skipped = total - pending.len();
     let finished = AtomicUsize::new(0);

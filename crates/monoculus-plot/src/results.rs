@@ -91,12 +91,16 @@ pub fn plot_results(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
         runs.check(metric, Cells::NonNegative)?;
     }
     // The outcome columns, through the schema the writer uses.
+    let schema = RunMetrics::schema(&runs.header).map_err(|message| PlotError::Input {
+        path: runs.path.clone(),
+        message,
+    })?;
     let metrics: Vec<RunMetrics> = runs
         .rows
         .iter()
         .zip(&runs.lines)
         .map(|(r, &line)| {
-            RunMetrics::read(&runs.header, r).map_err(|message| PlotError::Input {
+            schema.read(r).map_err(|message| PlotError::Input {
                 path: format!("{}:{line}", runs.path),
                 message,
             })

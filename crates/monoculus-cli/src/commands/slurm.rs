@@ -217,7 +217,7 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
                 "--stress: takes no config; give the stress options after `--`".into(),
             ));
         }
-        let parsed = StressOnly::try_parse_from(
+        StressOnly::try_parse_from(
             std::iter::once("monoculus stress".to_string()).chain(args.stress_args.iter().cloned()),
         )
         .map_err(|e| {
@@ -235,7 +235,6 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
                 "--stress options: leave out --shard (each task gets its own)".into(),
             ));
         }
-        let _ = parsed;
         let mut task: Vec<String> = vec!["stress".into()];
         let mut rest = args.stress_args.iter();
         let mut csv = None;

@@ -128,10 +128,13 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
     ]);
     rows.push(head);
     let names: Vec<String> = header.iter().map(String::from).collect();
+    let schema = SummaryStats::schema(&names)
+        .map_err(|m| Failure::Input(format!("{}: {m}", path.display())))?;
     for r in &records {
         let fields: Vec<String> = r.iter().map(String::from).collect();
         let line = r.position().map_or(0, |p| p.line());
-        let st = SummaryStats::read(&names, &fields)
+        let st: SummaryStats = schema
+            .read(&fields)
             .map_err(|m| Failure::Input(format!("{}:{line}: {m}", path.display())))?;
         let mut row: Vec<String> = params.iter().map(|&i| r[i].to_string()).collect();
         if hull {

@@ -3,7 +3,7 @@
 
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::ResultsError;
 use super::fsio::io;
@@ -12,7 +12,6 @@ use super::fsio::io;
 #[derive(Debug)]
 pub struct Lock {
     _file: File,
-    path: PathBuf,
 }
 
 /// How a lock is taken.
@@ -63,10 +62,7 @@ impl Lock {
             f.write_all(format!("{who}\n").as_bytes())
                 .map_err(io(path))?;
         }
-        Ok(Some(Lock {
-            _file: file,
-            path: path.to_path_buf(),
-        }))
+        Ok(Some(Lock { _file: file }))
     }
 
     /// Whether some process holds `path` (exclusively or shared) right now.
@@ -82,11 +78,28 @@ impl Lock {
             Err(_) => true,
         }
     }
+}
 
-    /// The lock file.
-    pub fn path(&self) -> &Path {
-        &self.path
+/// "`guarded` is in use by ..." for the lock file `lock`.
+fn busy(lock: &Path, guarded: &Path) -> ResultsError {
+    ResultsError::Busy {
+        path: guarded.display().to_string(),
+        holder: holder(lock).unwrap_or_else(|| "another process".into()),
     }
+}
+
+/// Takes the exclusive lock `lock` that guards the file `guarded`, or fails naming the
+/// process that holds it.
+pub fn take_exclusive(lock: &Path, guarded: &Path, who: &str) -> Result<Lock, ResultsError> {
+    Lock::try_take(lock, LockKind::Exclusive, who)?.ok_or_else(|| busy(lock, guarded))
+}
+
+/// Fails, naming the holder, if some process holds `lock` (which guards `guarded`).
+pub fn ensure_free(lock: &Path, guarded: &Path) -> Result<(), ResultsError> {
+    if Lock::is_held(lock) {
+        return Err(busy(lock, guarded));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use super::ResultsError;
 use super::fsio::io;
 use super::lock::LockKind;
-use super::provenance::{Attempt, Provenance, config_hash};
+use super::provenance::{Attempt, Provenance, config_hash, this_build};
 use super::record::runs_header;
 use super::rows::{RunRows, read_rows, write_rows};
 use super::store::{SHARDS_DIR, lock_folder, shard_files};
@@ -58,11 +58,11 @@ fn mismatch(path: &Path, message: impl Into<String>) -> ResultsError {
 /// Rebuilds the experiment of a shard record, checked to be the one `config.toml` holds.
 fn load_experiment(
     dir: &Path,
+    text: &str,
     record: &Provenance,
     record_path: &Path,
 ) -> Result<Experiment, ResultsError> {
     let path = dir.join("config.toml");
-    let text = fs::read_to_string(&path).map_err(io(&path))?;
     let exp = record
         .experiment(&record_path.display().to_string())
         .map_err(|e| mismatch(record_path, format!("its config cannot be read back: {e}")))?;
@@ -100,11 +100,6 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
     let config_text =
         fs::read_to_string(dir.join("config.toml")).map_err(io(&dir.join("config.toml")))?;
     let hash = config_hash(&config_text);
-    let build = |r: &Provenance| (r.monoculus_version.clone(), r.git_commit.clone());
-    let this_build = (
-        super::provenance::VERSION.to_string(),
-        super::provenance::GIT_COMMIT.to_string(),
-    );
     let mut records = Vec::new();
     for (s, path) in &files {
         let record_path = path.with_extension("toml");
@@ -123,25 +118,23 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
                 ),
             ));
         }
-        if build(&record) != this_build {
+        if !record.is_this_build() {
             return Err(mismatch(
                 &record_path,
                 format!(
-                    "shard {s} was run by {}, this is monoculus {} (commit {}); rerun it with --force, or merge with that build",
+                    "shard {s} was run by {}, this is {}; rerun it with --force, or merge with that build",
                     record.build(),
-                    this_build.0,
-                    this_build.1
+                    this_build()
                 ),
             ));
         }
         records.push((record, record_path));
     }
-    let exp = load_experiment(dir, &records[0].0, &records[0].1)?;
+    let exp = load_experiment(dir, &config_text, &records[0].0, &records[0].1)?;
     let mut all: Option<RunRows> = None;
     let mut origin: HashMap<RunId, (PathBuf, usize)> = HashMap::new();
-    let mut present_by_shard: HashMap<usize, Vec<RunId>> = HashMap::new();
     let mut cut_lines = Vec::new();
-    for (s, path) in &files {
+    for (_, path) in &files {
         let found = read_rows(path)?;
         if found.partial {
             cut_lines.push((path.clone(), found.rows.len() + 2));
@@ -159,7 +152,6 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
                     ),
                 ));
             }
-            present_by_shard.entry(s.index).or_default().push(*id);
         }
         match &mut all {
             None => all = Some(rows),

@@ -16,7 +16,7 @@ pub use lock::{Lock, LockKind};
 pub use merge::{MergeReport, MissingRuns, merge};
 pub use provenance::{Attempt, GIT_COMMIT, Provenance, VERSION, config_hash, host_name};
 pub use record::{
-    CONFIG_HASH_COLUMN, METRIC_COLUMNS, PARAM_COLUMNS, RunMetrics, num, param_header, read_from,
+    CONFIG_HASH_COLUMN, METRIC_COLUMNS, PARAM_COLUMNS, RowSchema, RunMetrics, num, param_header,
     run_row, runs_header,
 };
 pub use rows::{FoundRows, RunRows, read_rows, write_rows};

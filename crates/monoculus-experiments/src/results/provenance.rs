@@ -26,6 +26,11 @@ pub fn config_hash(text: &str) -> String {
     format!("{h:016x}")
 }
 
+/// "monoculus 0.1.0 (commit abc)" of this build.
+pub fn this_build() -> String {
+    format!("monoculus {VERSION} (commit {GIT_COMMIT})")
+}
+
 /// This machine's host name.
 pub fn host_name() -> String {
     std::fs::read_to_string("/proc/sys/kernel/hostname")
@@ -149,9 +154,10 @@ impl Provenance {
         write_atomic(path, text.as_bytes())
     }
 
-    /// Whether rows written under `self` may be continued by this build.
-    pub fn same_build(&self, other: &Provenance) -> bool {
-        self.monoculus_version == other.monoculus_version && self.git_commit == other.git_commit
+    /// Whether the rows `self` describes were written by this build (and so may be
+    /// continued or merged by it).
+    pub fn is_this_build(&self) -> bool {
+        self.monoculus_version == VERSION && self.git_commit == GIT_COMMIT
     }
 
     /// "monoculus 0.1.0 (commit abc)".

@@ -280,9 +280,9 @@ impl RunMetrics {
         fields_of(self)
     }
 
-    /// Reads the metrics of a row whose columns are `header`, from its `seed` column on.
-    pub fn read(header: &[String], row: &[String]) -> Result<RunMetrics, String> {
-        read_from(header, row, "seed")
+    /// The schema of the metric columns of rows whose columns are `header`.
+    pub fn schema(header: &[String]) -> Result<RowSchema, String> {
+        RowSchema::new(header, "seed")
     }
 }
 
@@ -305,37 +305,55 @@ pub(crate) fn fields_of<T: serde::Serialize>(value: &T) -> Vec<String> {
         .collect()
 }
 
-/// Reads a typed record from the columns of `row` (named by `header`) from column `first`
-/// on; an error names the column.
-pub fn read_from<T: serde::de::DeserializeOwned>(
-    header: &[String],
-    row: &[String],
-    first: &str,
-) -> Result<T, String> {
-    let from = header
-        .iter()
-        .position(|h| h == first)
-        .ok_or_else(|| format!("no column {first}"))?;
-    if row.len() != header.len() {
-        return Err(format!("{} fields for {} columns", row.len(), header.len()));
+/// The columns of a typed part of a row (from a first column on), found once per file
+/// and then used for every row.
+pub struct RowSchema {
+    from: usize,
+    head: csv::StringRecord,
+    header: Vec<String>,
+}
+
+impl RowSchema {
+    /// The part of rows with columns `header` that starts at column `first`.
+    pub fn new(header: &[String], first: &str) -> Result<RowSchema, String> {
+        let from = header
+            .iter()
+            .position(|h| h == first)
+            .ok_or_else(|| format!("no column {first}"))?;
+        Ok(RowSchema {
+            from,
+            head: csv::StringRecord::from(header[from..].to_vec()),
+            header: header.to_vec(),
+        })
     }
-    let head = csv::StringRecord::from(header[from..].to_vec());
-    let rec = csv::StringRecord::from(row[from..].to_vec());
-    rec.deserialize(Some(&head)).map_err(|e| {
-        let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
-            return e.to_string();
-        };
-        let message = err.kind().to_string();
-        // The column: as serde reports it, or the one holding the quoted value.
-        let quoted = message.split('`').nth(1);
-        let column = err.field().map(|k| from + k as usize).or_else(|| {
-            quoted.and_then(|v| row[from..].iter().position(|c| c == v).map(|k| from + k))
-        });
-        match column.and_then(|c| header.get(c)) {
-            Some(name) => format!("column {name}: {message}"),
-            None => message,
+
+    /// Reads that part of `row` as a `T`; an error names the column.
+    pub fn read<T: serde::de::DeserializeOwned>(&self, row: &[String]) -> Result<T, String> {
+        let from = self.from;
+        if row.len() != self.header.len() {
+            return Err(format!(
+                "{} fields for {} columns",
+                row.len(),
+                self.header.len()
+            ));
         }
-    })
+        let rec = csv::StringRecord::from(&row[from..]);
+        rec.deserialize(Some(&self.head)).map_err(|e| {
+            let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
+                return e.to_string();
+            };
+            let message = err.kind().to_string();
+            // The column: as serde reports it, or the one holding the quoted value.
+            let quoted = message.split('`').nth(1);
+            let column = err.field().map(|k| from + k as usize).or_else(|| {
+                quoted.and_then(|v| row[from..].iter().position(|c| c == v).map(|k| from + k))
+            });
+            match column.and_then(|c| self.header.get(c)) {
+                Some(name) => format!("column {name}: {message}"),
+                None => message,
+            }
+        })
+    }
 }
 
 /// The full row of one finished run.
@@ -398,14 +416,15 @@ mod tests {
             "3,12,100,40,0.1,0.0000001,inf,100,true,1.5,1,0.25,,2,1,2,0,false,0,0,,40,box,9,1.235,00ff"
         );
         let header: Vec<String> = want.clone();
-        let back = RunMetrics::read(&header, &m.fields()).unwrap();
+        let schema = RunMetrics::schema(&header).unwrap();
+        let back: RunMetrics = schema.read(&m.fields()).unwrap();
         assert_eq!(back.seed, 3);
         assert_eq!(back.rho, f64::INFINITY);
         assert_eq!(back.final_extent_z, None);
         let mut bad = m.fields();
         bad[6] = "1.2.3".into();
         assert_eq!(
-            RunMetrics::read(&header, &bad).unwrap_err(),
+            schema.read::<RunMetrics>(&bad).unwrap_err(),
             "column rho: `1.2.3` is not a number"
         );
     }

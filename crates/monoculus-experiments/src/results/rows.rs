@@ -144,19 +144,6 @@ impl FoundRows {
 }
 
 impl RunRows {
-    /// (cell key, seed) of every row.
-    pub fn keys(&self) -> impl Iterator<Item = (String, u64)> + '_ {
-        let ci = self
-            .header
-            .iter()
-            .position(|h| h == "cell")
-            .expect("own header");
-        self.rows
-            .iter()
-            .zip(&self.ids)
-            .map(move |(r, id)| (r[ci].clone(), id.seed))
-    }
-
     /// Keeps the first row of every run.
     pub fn dedup(&mut self) {
         let mut seen = HashSet::new();

@@ -12,12 +12,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use super::fsio::{create_if_absent, io, write_atomic};
-use super::lock::{Lock, LockKind, holder};
-use super::provenance::{Attempt, Provenance};
+use super::lock::{Lock, LockKind, holder, take_exclusive};
+use super::provenance::{Attempt, Provenance, this_build};
 use super::record::runs_header;
 use super::rows::{RunRows, read_rows, write_rows};
 use super::summary::write_summary;
-use crate::config::Experiment;
+use crate::config::{Experiment, RunId};
 use crate::shard::Shard;
 
 /// A results-folder failure.
@@ -175,8 +175,8 @@ pub struct ResultsDir {
     rows_path: PathBuf,
     shard: Option<Shard>,
     runs: Mutex<File>,
-    /// (cell key, seed) of the runs already in the rows file.
-    pub done: HashSet<(String, u64)>,
+    /// The runs already in the rows file.
+    pub done: HashSet<RunId>,
     /// Duplicated rows found (and dropped) when resuming.
     pub dropped_duplicates: usize,
     _locks: Vec<Lock>,
@@ -241,15 +241,7 @@ impl ResultsDir {
                     });
                 }
                 let rows = sd.join(format!("{}.csv", s.stem()));
-                let lock = rows.with_extension("lock");
-                locks.push(
-                    Lock::try_take(&lock, LockKind::Exclusive, &who)?.ok_or_else(|| {
-                        ResultsError::Busy {
-                            path: rows.display().to_string(),
-                            holder: holder(&lock).unwrap_or_else(|| "another process".into()),
-                        }
-                    })?,
-                );
+                locks.push(take_exclusive(&rows.with_extension("lock"), &rows, &who)?);
                 remove_stale_temporaries(&sd, &s.stem());
                 if spec.force {
                     remove_if_present(&rows)?;
@@ -261,13 +253,13 @@ impl ResultsDir {
         // Provenance: rows are continued only by the build that wrote them.
         let mut record = Provenance::new(exp);
         if let Some(old) = Provenance::read(&record_path)? {
-            if !old.same_build(&record) && rows_path.exists() {
+            if !old.is_this_build() && rows_path.exists() {
                 return Err(ResultsError::Mismatch {
                     path: rows_path.display().to_string(),
                     message: format!(
                         "was written by {}, this is {}; use --force to start over",
                         old.build(),
-                        record.build()
+                        this_build()
                     ),
                 });
             }
@@ -293,7 +285,7 @@ impl ResultsDir {
             {
                 write_rows(&rows_path, &header, &rows.rows)?;
             }
-            done = rows.keys().collect();
+            done = rows.ids.iter().copied().collect();
         } else {
             write_rows(&rows_path, &header, &[])?;
         }

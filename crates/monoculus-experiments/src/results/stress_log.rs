@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use super::ResultsError;
 use super::fsio::{create_if_absent, io, read_complete_lines, write_atomic};
-use super::lock::{Lock, LockKind, holder};
+use super::lock::{Lock, ensure_free, take_exclusive};
 use crate::shard::Shard;
 
 /// One measurement of `monoculus stress`.
@@ -164,13 +164,7 @@ impl StressLog {
         if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
             fs::create_dir_all(parent).map_err(io(parent))?;
         }
-        let lock_path = path.with_extension("lock");
-        let lock = Lock::try_take(&lock_path, LockKind::Exclusive, who)?.ok_or_else(|| {
-            ResultsError::Busy {
-                path: path.display().to_string(),
-                holder: holder(&lock_path).unwrap_or_else(|| "another process".into()),
-            }
-        })?;
+        let lock = take_exclusive(&path.with_extension("lock"), path, who)?;
         create_if_absent(path, &header())?;
         let (rows, cut) = read_stress(path)?;
         if cut || fs::metadata(path).map_err(io(path))?.len() == 0 {
@@ -248,13 +242,7 @@ pub fn merge_stress(path: &Path, partial: bool) -> Result<StressMerge, ResultsEr
     let mut rows: Vec<StressRow> = Vec::new();
     let mut total = None;
     for f in &files {
-        let lock = f.with_extension("lock");
-        if Lock::is_held(&lock) {
-            return Err(ResultsError::Busy {
-                path: f.display().to_string(),
-                holder: holder(&lock).unwrap_or_else(|| "another process".into()),
-            });
-        }
+        ensure_free(&f.with_extension("lock"), f)?;
         let (r, _) = read_stress(f)?;
         for row in r {
             if *total.get_or_insert(row.measurements) != row.measurements {

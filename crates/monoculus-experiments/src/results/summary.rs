@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::ResultsError;
 use super::fsio::write_atomic;
-use super::record::{RunMetrics, fields_of, param_header, param_values, plain, read_from};
+use super::record::{RowSchema, RunMetrics, fields_of, param_header, param_values, plain};
 use super::rows::RunRows;
 use crate::config::Experiment;
 
@@ -135,9 +135,9 @@ impl SummaryStats {
         }
     }
 
-    /// Reads the statistics of a row of `summary.csv` (columns `header`).
-    pub fn read(header: &[String], row: &[String]) -> Result<SummaryStats, String> {
-        read_from(header, row, "runs")
+    /// The schema of the statistics columns of `summary.csv` rows with columns `header`.
+    pub fn schema(header: &[String]) -> Result<RowSchema, String> {
+        RowSchema::new(header, "runs")
     }
 }
 
@@ -158,12 +158,13 @@ pub fn summary_row(mut params: Vec<String>, s: &CellStats) -> Vec<String> {
 /// each run counted once.
 pub fn write_summary(path: &Path, exp: &Experiment, rows: &RunRows) -> Result<(), ResultsError> {
     let mut stats: Vec<CellStats> = exp.cells.iter().map(|_| CellStats::default()).collect();
+    let schema = RunMetrics::schema(&rows.header).expect("runs.csv has a seed column");
     let mut unique = std::collections::HashSet::new();
     for ((row, id), &line) in rows.rows.iter().zip(&rows.ids).zip(&rows.lines) {
         if !unique.insert(*id) {
             continue;
         }
-        let m = RunMetrics::read(&rows.header, row).map_err(|message| ResultsError::Corrupt {
+        let m: RunMetrics = schema.read(row).map_err(|message| ResultsError::Corrupt {
             path: path.with_file_name("runs.csv").display().to_string(),
             line,
             message,
@@ -198,7 +199,8 @@ mod tests {
         assert_eq!(text.lines().next().unwrap(), SUMMARY_COLUMNS.join(","));
         assert_eq!(row[2], "NaN");
         let header: Vec<String> = SUMMARY_COLUMNS.iter().map(|c| c.to_string()).collect();
-        assert_eq!(fields_of(&SummaryStats::read(&header, &row).unwrap()), row);
+        let back: SummaryStats = SummaryStats::schema(&header).unwrap().read(&row).unwrap();
+        assert_eq!(fields_of(&back), row);
     }
 
     #[test]
