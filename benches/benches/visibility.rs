@@ -135,18 +135,19 @@ fn one_round(c: &mut Criterion) {
 }
 
 /// One FSYNC ConvergeLocality round late in a large run (a dense core within c, a few
-/// stragglers): where the 32 uniform draws miss, `random` checks the view to every far
-/// robot, `random_rejection` draws more (uniformly, then among the far robots).
+/// stragglers): where the 32 uniform draws miss, `random_listing` checks the view to
+/// every far robot, the default `random` draws more (uniformly, then among the far
+/// robots).
 fn late_round(c: &mut Criterion) {
     let mut g = c.benchmark_group("late_round");
     g.sample_size(10);
     for (target, name, sizes) in [
-        (TargetPolicy::Random, "random", &[10_000usize][..]),
         (
-            TargetPolicy::RandomRejection,
-            "random_rejection",
-            &[10_000, 100_000][..],
+            TargetPolicy::RandomListing,
+            "random_listing",
+            &[10_000usize][..],
         ),
+        (TargetPolicy::Random, "random", &[10_000, 100_000][..]),
     ] {
         for &n in sizes {
             let pts = late_locality(n, 6);
@@ -187,7 +188,7 @@ fn paper_run(c: &mut Criterion) {
     g.finish();
 }
 
-/// One stretch of 20 ASYNC event ticks of ConvergeLocality (random_rejection) on a square
+/// One stretch of 20 ASYNC event ticks of ConvergeLocality (`target = "random"`) on a square
 /// of density 1, after one epoch: coarse durations (idle U(1,10), compute U(1,5), move
 /// Exp(4)) and the same x 100, whose ticks have few Looks each.
 fn async_stretch(c: &mut Criterion) {
@@ -212,7 +213,6 @@ fn async_stretch(c: &mut Criterion) {
                 b.iter_batched_ref(
                     || {
                         let mut cfg = paper_config(AlgorithmKind::ConvergeLocality, 6);
-                        cfg.algorithm.target = TargetPolicy::RandomRejection;
                         cfg.scheduler = SchedulerSpec::Async(timing);
                         let mut sim = Simulation::new(cfg, pts.clone()).unwrap();
                         while sim.async_progress().is_some_and(|(_, e)| e == 0) {

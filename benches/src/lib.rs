@@ -33,7 +33,7 @@ pub fn paper_config(kind: AlgorithmKind, seed: u64) -> SimConfig {
 }
 
 /// A swarm as late in a large ConvergeLocality run (measured at round 215 of
-/// `configs/bench/locality_1e5_rejection.toml`): 95% of the robots uniform in a disc of
+/// `configs/bench/locality_1e5.toml`): 95% of the robots uniform in a disc of
 /// radius 1.8, all within c = 2 of most others, and 5% stragglers uniform in the
 /// annulus of radii 2 and 20. Most robots then see a few percent of the swarm far, so
 /// their 32 uniform draws often miss.

@@ -34,7 +34,7 @@ side = 40.0
 
 [algorithm]
 name = "converge_locality"
-target = "random_rejection"
+target = "random"
 "#;
 
 const BATCH_VARS: [&str; 14] = [
@@ -147,7 +147,8 @@ fn shards_merge_into_the_whole_run_with_provenance() {
     // Provenance: the build, the config's hash, and every shard's process.
     let p = std::fs::read_to_string(parts.join("provenance.toml")).unwrap();
     let hash = &csv_rows_without(&parts.join("runs.csv"), &[])[0];
-    assert!(p.contains("monoculus_version = \"0.1.0\""), "{p}");
+    let version = format!("monoculus_version = \"{}\"", env!("CARGO_PKG_VERSION"));
+    assert!(p.contains(&version), "{p}");
     assert!(p.contains("git_commit = "), "{p}");
     assert!(
         p.contains(&format!("config_hash = \"{}\"", hash.last().unwrap())),

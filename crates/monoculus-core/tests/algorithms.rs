@@ -326,16 +326,21 @@ fn certainly_stays_only_for_robots_that_stay() {
     assert!(vouched > 50, "only {vouched} robots vouched for");
 }
 
-/// `target = "random_rejection"`: six far robots, one hidden, two co-located, among
-/// many near ones. With 600 near robots the 32 uniform draws mostly miss and the 256
-/// extra uniform draws decide (they miss all with probability 6%); with 10,000 they
-/// miss all with probability 84%, and the redraws among the far robots decide. Either
-/// way the choice is uniform over the visible far points: never the hidden one, the
-/// co-located pair counted once.
+/// Both targets, six far robots, one hidden, two co-located, among many near ones.
+/// `random`: with 600 near robots the 32 uniform draws mostly miss and the 256 extra
+/// uniform draws decide (they miss all with probability 6%); with 10,000 they miss all
+/// with probability 84%, and the redraws among the far robots decide. `random_listing`:
+/// the 32 draws mostly miss and the listing decides. Either way the choice is uniform
+/// over the visible far points: never the hidden one, the co-located pair counted once.
 #[test]
-fn rejection_redraws_are_uniform_over_visible_far_points() {
+fn target_draws_are_uniform_over_visible_far_points() {
     use monoculus_core::algorithms::TargetPolicy;
-    for near in [600, 10_000] {
+    let cases = [
+        (TargetPolicy::Random, 600),
+        (TargetPolicy::Random, 10_000),
+        (TargetPolicy::RandomListing, 600),
+    ];
+    for (policy, near) in cases {
         let mut pts = vec![(0.0, 0.0)];
         // Near robots on a small circle (all within c = 2).
         pts.extend((0..near).map(|k| {
@@ -354,7 +359,7 @@ fn rejection_redraws_are_uniform_over_visible_far_points() {
         // The near circle hides nothing: its robots lie off the four axes.
         let s = sight(&pts);
         let mut p = params(AlgorithmKind::ConvergeLocality);
-        p.target = TargetPolicy::RandomRejection;
+        p.target = policy;
         let trials = 4000;
         let ms: Vec<DVec2> = (0..trials)
             .map(|t| {
@@ -373,7 +378,7 @@ fn rejection_redraws_are_uniform_over_visible_far_points() {
             let k = ms.iter().filter(|&&m| close(m, target)).count();
             assert!(
                 (850..1150).contains(&k),
-                "{near} near: {target}: {k} of {trials}"
+                "{policy:?}, {near} near: {target}: {k} of {trials}"
             );
         }
     }

@@ -66,7 +66,7 @@ side = 12.0
 clusters = 3
 [algorithm]
 name = ["converge_locality", "converge_quadrant"]
-target = ["random", "random_rejection"]
+target = ["random", "random_listing"]
 [vision]
 backend = ["index", "exact"]
 [scheduler]

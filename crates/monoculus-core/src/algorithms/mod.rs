@@ -117,17 +117,21 @@ impl AlgorithmKind {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TargetPolicy {
-    /// Draw robots uniformly until one is eligible and visible; after 32 misses, list
-    /// every eligible visible point and draw one of them (the reference procedure).
+    /// Draw robots uniformly until one is eligible and visible (32 draws, then 256 more
+    /// for ConvergeLocality); then draw among the robots that may be eligible (the
+    /// robots farther than c, found by a range query) until one is eligible and visible,
+    /// and list them all only after 32 more misses. The late rounds of a large
+    /// ConvergeLocality run, where most robots see few far robots, then cost one line
+    /// of sight per robot instead of one per far robot. Called `random_rejection`
+    /// before it became the default (that name still selects it).
     #[default]
+    #[serde(alias = "random_rejection")]
     Random,
-    /// The same 32 draws, then 256 more uniform draws (ConvergeLocality); then draw
-    /// among the robots that may be eligible (the robots farther than c, found by a
-    /// range query) until one is eligible and visible, and list them all only after 32
-    /// more misses. The late rounds of a large ConvergeLocality run, where most robots
-    /// see few far robots, then cost one line of sight per robot instead of one per
-    /// far robot.
-    RandomRejection,
+    /// The reference procedure, the default before version 0.2: the same first 32
+    /// draws, then list every eligible visible point and draw one of them. Exact but
+    /// quadratic in the late rounds of large ConvergeLocality runs; kept for exact
+    /// comparisons with earlier results.
+    RandomListing,
 }
 
 /// Parameters every activation needs.

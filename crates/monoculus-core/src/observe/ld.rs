@@ -104,7 +104,7 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
         let beyond = |f: &mut dyn FnMut(usize)| self.sight.for_each_beyond(self.me, threshold, f);
         let candidates = Candidates {
             list: &beyond,
-            redraw: self.target == TargetPolicy::RandomRejection,
+            redraw: self.target == TargetPolicy::Random,
         };
         sample_visible_point(self.sight, self.me, &far, &nobody, Some(candidates), stream)
             .map(|j| self.local(j))

@@ -34,23 +34,24 @@ pub(crate) type Enumerate<'a> = &'a dyn Fn(&mut dyn FnMut(usize));
 pub(crate) struct Candidates<'a> {
     /// Lists them, in any order.
     pub list: Enumerate<'a>,
-    /// Whether to draw among them ([`TargetPolicy::RandomRejection`]) before listing
-    /// every eligible visible point.
+    /// Whether to draw among them ([`TargetPolicy::Random`]) before listing every
+    /// eligible visible point ([`TargetPolicy::RandomListing`] lists at once).
     ///
-    /// [`TargetPolicy::RandomRejection`]: crate::algorithms::TargetPolicy::RandomRejection
+    /// [`TargetPolicy::Random`]: crate::algorithms::TargetPolicy::Random
+    /// [`TargetPolicy::RandomListing`]: crate::algorithms::TargetPolicy::RandomListing
     pub redraw: bool,
 }
 
 /// How many uniform draws the target sampler makes before it lists every eligible point.
 pub const REJECTION_DRAWS: usize = 32;
 
-/// [`TargetPolicy::RandomRejection`]: how many more uniform draws over the whole swarm
+/// [`TargetPolicy::Random`]: how many more uniform draws over the whole swarm
 /// follow the first [`REJECTION_DRAWS`] before the candidates are listed. A draw that
 /// lands on an ineligible robot costs one distance test, listing the candidates one
 /// test per robot beyond c and more: where a few percent of the swarm is far (late
 /// ConvergeLocality rounds), these draws find one at a fraction of the cost.
 ///
-/// [`TargetPolicy::RandomRejection`]: crate::algorithms::TargetPolicy::RandomRejection
+/// [`TargetPolicy::Random`]: crate::algorithms::TargetPolicy::Random
 pub const EXTRA_UNIFORM_DRAWS: usize = 256;
 
 /// A uniformly random visible point from robot `me` among the robots `eligible`
