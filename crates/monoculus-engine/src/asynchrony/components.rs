@@ -1,7 +1,6 @@
 //! The ASYNC scheduler's per-robot state and shared resources.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use std::collections::BTreeMap;
 
 use bevy_ecs::prelude::*;
 
@@ -61,8 +60,11 @@ pub struct AsyncClock {
     epoch_start: u64,
     done: Vec<bool>,
     remaining: usize,
-    /// (tick, robot) of every pending phase end.
-    agenda: BinaryHeap<Reverse<(u64, u32)>>,
+    /// The robots of every pending phase end, by tick (a calendar: scheduling and
+    /// taking a tick cost one map operation per tick, not a heap operation per robot).
+    agenda: BTreeMap<u64, Vec<u32>>,
+    /// Emptied lists of `agenda`, reused.
+    spare: Vec<Vec<u32>>,
     /// Robots whose phase ends at the current tick, ascending.
     pub due: Vec<u32>,
     /// (robot, tick of its Look) of the cycles completed at the current tick.
@@ -97,7 +99,11 @@ impl AsyncClock {
 
     /// Schedules robot `robot`'s next phase end.
     pub fn schedule(&mut self, tick: u64, robot: u32) {
-        self.agenda.push(Reverse((tick, robot)));
+        let spare = &mut self.spare;
+        self.agenda
+            .entry(tick)
+            .or_insert_with(|| spare.pop().unwrap_or_default())
+            .push(robot);
     }
 
     /// Moves to the next tick with phase ends; `false` if nothing is scheduled.
@@ -107,18 +113,13 @@ impl AsyncClock {
         self.move_ended = false;
         self.move_decided = false;
         self.epoch_ended = false;
-        let Some(&Reverse((tick, _))) = self.agenda.peek() else {
+        let Some((tick, mut due)) = self.agenda.pop_first() else {
             return false;
         };
         self.tick = tick;
-        while let Some(&Reverse((t, r))) = self.agenda.peek() {
-            if t != tick {
-                break;
-            }
-            self.agenda.pop();
-            self.due.push(r);
-        }
-        self.due.sort_unstable();
+        due.sort_unstable();
+        std::mem::swap(&mut self.due, &mut due);
+        self.spare.push(due);
         true
     }
 
@@ -148,3 +149,32 @@ impl AsyncClock {
 /// Entities by robot index.
 #[derive(Resource, Clone, Debug)]
 pub struct RobotEntities(pub Vec<Entity>);
+
+#[cfg(test)]
+mod tests {
+    use super::AsyncClock;
+
+    /// The calendar gives ticks in order, each with its robots ascending (also robots
+    /// scheduled out of order, twice at one tick, or at the tick being processed), and
+    /// reports when nothing is left.
+    #[test]
+    fn the_agenda_gives_ticks_in_order_with_robots_ascending() {
+        let mut clock = AsyncClock::new(8);
+        for (tick, robot) in [(5, 3), (2, 7), (5, 1), (9, 0), (2, 2), (5, 6)] {
+            clock.schedule(tick, robot);
+        }
+        assert!(clock.advance());
+        assert_eq!((clock.tick, clock.due.clone()), (2, vec![2, 7]));
+        // Scheduled during tick 2 for tick 2 itself: the next tick taken is 2 again.
+        clock.schedule(2, 4);
+        clock.schedule(9, 5);
+        assert!(clock.advance());
+        assert_eq!((clock.tick, clock.due.clone()), (2, vec![4]));
+        assert!(clock.advance());
+        assert_eq!((clock.tick, clock.due.clone()), (5, vec![1, 3, 6]));
+        assert!(clock.advance());
+        assert_eq!((clock.tick, clock.due.clone()), (9, vec![0, 5]));
+        assert!(!clock.advance());
+        assert!(clock.due.is_empty());
+    }
+}

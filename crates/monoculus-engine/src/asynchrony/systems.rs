@@ -211,7 +211,12 @@ pub fn look<P: IndexPoint>(
         })
         .collect();
     let outputs = match build_sight(&params, now) {
-        SnapshotSight::Index(s) => decide_all(&params, &s, &inputs),
+        SnapshotSight::Index(s) => {
+            // Built here, its two layouts in parallel, not by the first decision while
+            // the other threads wait.
+            s.build_index();
+            decide_all(&params, &s, &inputs)
+        }
         SnapshotSight::Exact(s) => decide_all(&params, &s, &inputs),
     };
     for (&r, (d, memory)) in lookers.iter().zip(outputs) {
@@ -267,30 +272,40 @@ pub fn account<P: IndexPoint>(
     robots: Query<(&Robot, &Timing<P>)>,
 ) {
     clock.account();
-    if clock.move_ended || clock.move_decided {
-        let committed = P::hull_measure(&committed_points(
-            robots
-                .iter()
-                .map(|(r, t)| (positions.points[r.index as usize], *t)),
-        ));
+    let tick = clock.tick;
+    let pos = &positions.points;
+    let robots = &robots;
+    // The two measures are independent: taken at once where a core is free.
+    let (committed, measured) = rayon::join(
+        || {
+            (clock.move_ended || clock.move_decided).then(|| {
+                P::hull_measure(&committed_points(
+                    robots.iter().map(|(r, t)| (pos[r.index as usize], *t)),
+                ))
+            })
+        },
+        || {
+            clock.move_ended.then(|| {
+                Shape::of(&positions_now(
+                    tick,
+                    pos,
+                    robots
+                        .iter()
+                        .map(|(r, timing)| (r.index, pos[r.index as usize], *timing)),
+                ))
+            })
+        },
+    );
+    if let Some(committed) = committed {
         if crate::systems::hull_grew(clock.committed_hull, committed) {
             tally.committed_hull_growth += 1;
         }
         clock.committed_hull = committed;
     }
-    if !clock.move_ended {
-        return;
+    if let Some(mut measured) = measured {
+        crate::systems::record_hull(&mut tally, &shape, &mut measured);
+        *shape = measured;
     }
-    let now = positions_now(
-        clock.tick,
-        &positions.points,
-        robots
-            .iter()
-            .map(|(r, timing)| (r.index, positions.points[r.index as usize], *timing)),
-    );
-    let mut measured = Shape::of(&now);
-    crate::systems::record_hull(&mut tally, &shape, &mut measured);
-    *shape = measured;
 }
 
 #[cfg(test)]

@@ -63,6 +63,11 @@ impl<P: IndexPoint> IndexedSight<P> {
         }
     }
 
+    /// Builds the index now (else it is built by the first query that needs it).
+    pub fn build_index(&self) {
+        self.index.build(&self.positions);
+    }
+
     /// How many robots moved since the grid in use was built (0 for a fresh one).
     pub fn stale_robots(&self) -> usize {
         self.index.stale_robots()

@@ -90,6 +90,13 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         }
     }
 
+    /// Builds the grid, both layouts at once (ASYNC builds a grid at every tick with
+    /// Looks, between parallel decisions).
+    fn build(&self, pos: &[DVec2]) {
+        self.grid
+            .get_or_init(|| Box::new(SegmentGrid::new_parallel(pos)));
+    }
+
     fn stale_robots(&self) -> usize {
         self.stale.len()
     }

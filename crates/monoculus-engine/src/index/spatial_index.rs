@@ -16,6 +16,11 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// (`before`): it may keep what `previous` built where few robots moved.
     fn after(previous: Self, before: &[P], now: &[P], same_vision: bool) -> Self;
 
+    /// Builds what is built on first use (a no-op for an index built at once), outside
+    /// any parallel section: queries inside one would wait for whichever thread
+    /// builds it.
+    fn build(&self, _pos: &[P]) {}
+
     /// Robots that moved since the index in use was built (0 for a fresh one).
     fn stale_robots(&self) -> usize;
 

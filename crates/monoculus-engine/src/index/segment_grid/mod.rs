@@ -57,7 +57,18 @@ pub struct SegmentGrid {
 
 impl SegmentGrid {
     /// A grid over the first two coordinates of `points`.
-    pub fn new<P: Point>(points: &[P]) -> Self {
+    pub fn new<P: Point + Sync>(points: &[P]) -> Self {
+        Self::build(points, false)
+    }
+
+    /// The same, its two layouts built at once on two threads of the current rayon
+    /// pool. Not from inside a parallel section whose tasks may ask for this grid:
+    /// a thread waiting on the second layout may run such a task meanwhile.
+    pub fn new_parallel<P: Point + Sync>(points: &[P]) -> Self {
+        Self::build(points, true)
+    }
+
+    fn build<P: Point + Sync>(points: &[P], parallel: bool) -> Self {
         let n = points.len().max(1) as f64;
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
@@ -83,15 +94,27 @@ impl SegmentGrid {
             .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);
-        Self::with_spacing(points, spacing, lo, hi)
+        Self::with_spacing(points, spacing, lo, hi, parallel)
     }
 
     /// A grid over `points` in the box `[lo, hi]` (theirs) with cells `spacing` wide.
-    fn with_spacing<P: Point>(points: &[P], spacing: f64, lo: [f64; 2], hi: [f64; 2]) -> Self {
+    fn with_spacing<P: Point + Sync>(
+        points: &[P],
+        spacing: f64,
+        lo: [f64; 2],
+        hi: [f64; 2],
+        parallel: bool,
+    ) -> Self {
         let longest = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let layout = |run| Bands::new(points, run, lo, hi, spacing);
+        let (rows, columns) = if parallel {
+            rayon::join(|| layout(0), || layout(1))
+        } else {
+            (layout(0), layout(1))
+        };
         SegmentGrid {
-            rows: Bands::new(points, 0, lo, hi, spacing),
-            columns: Bands::new(points, 1, lo, hi, spacing),
+            rows,
+            columns,
             spacing,
             lo,
             hi,
