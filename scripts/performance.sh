@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Measures every scale target of docs/performance.md once and prints the
 # table (markdown) on stdout: `scripts/performance.sh [REPEATS]` (default 3: rounds are
-# the best of REPEATS stress runs; whole runs are timed once). About 2 to 3 minutes on
+# the best of REPEATS stress runs; whole runs are timed once). About 3 to 4 minutes on
 # 2 cores, with numpy's 12 s if numpy is installed (`pip install numpy`).
 # Details of every run go to results/performance/ (stress logs, results folders).
 set -euo pipefail
@@ -32,6 +32,24 @@ print(f"{best:.4f} {peak:.0f}")
 PY
 }
 
+# Microseconds per activation of the best of REPEATS stress runs.
+per_activation() {
+    local name="$1"; shift
+    for k in $(seq "$repeats"); do
+        "$bin" stress "$@" > "$out/$name.$k.log" 2>&1
+    done
+    python3 - "$out" "$name" "$repeats" <<'PY'
+import sys
+out, name, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
+best = 0.0
+for k in range(1, repeats + 1):
+    for line in open(f"{out}/{name}.{k}.log"):
+        if line.startswith("activations_per_s="):
+            best = max(best, float(line.split("=")[1]))
+print(f"{1e6 / best:.3f}")
+PY
+}
+
 # Wall time (s) of a whole experiment, from its runs.csv.
 whole() {
     local name="$1" config="$2"; shift 2
@@ -47,6 +65,13 @@ read -r cl5_one _ < <(stress cl_1e5_1thread --n 100000 --rounds 5 --threads 1)
 read -r lattice _ < <(stress cl_1e5_lattice --n 100000 --rounds 5 --init lattice)
 read -r cl6 cl6_mb < <(stress cl_1e6 --n 1000000 --rounds 2)
 read -r cq6 cq6_mb < <(stress cq_1e6 --n 1000000 --rounds 3 --algorithm converge_quadrant)
+fine="--idle uniform:1:1000 --compute uniform:1:500 --move exp:400"
+fsync_act=$(per_activation fsync_2e4 --n 20000 --rounds 6)
+coarse_act=$(per_activation async_coarse_1e4 --n 10000 --rounds 4 --scheduler async)
+# shellcheck disable=SC2086
+fine_act=$(per_activation async_x100_1e4 --n 10000 --rounds 2 --scheduler async $fine)
+async5=$(per_activation async_1e5 --n 100000 --rounds 2 --scheduler async)
+async5_one=$(per_activation async_1e5_1thread --n 100000 --rounds 2 --scheduler async --threads 1)
 cl_run=$(whole locality_1e5 configs/bench/locality_1e5.toml)
 cq_run=$(whole quadrant_1e4 configs/bench/quadrant_1e4.toml)
 # The paper's experiments run many runs at once: their elapsed time, not the sum.
@@ -61,10 +86,11 @@ else
     numpy=""
 fi
 
-python3 - "$cl5" "$cl5_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$numpy" <<'PY'
+python3 - "$cl5" "$cl5_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$fsync_act" "$coarse_act" "$fine_act" "$async5" "$async5_one" "$numpy" <<'PY'
 import sys
 cl5, cl5_one, lattice, cl6, cl6_mb, cq6, cq6_mb, cl_run, cq_run, paper, ours = map(float, sys.argv[1:12])
-numpy = float(sys.argv[12]) if sys.argv[12] else None
+fsync_act, coarse_act, fine_act, async5, async5_one = map(float, sys.argv[12:17])
+numpy = float(sys.argv[17]) if sys.argv[17] else None
 # Rounds are means over the rounds of the best stress run (the first round of
 # ConvergeQuadrant builds what later rounds reuse, and counts in its mean).
 rows = [
@@ -77,6 +103,9 @@ rows = [
     ("whole ConvergeQuadrant run, n = 10^4 (s)", cq_run, cq_run <= 60, "<= 60"),
     ("configs/paper/ (s)", paper, paper <= 60, "<= 60"),
     ("lattice against uniform start, n = 10^5 round", lattice / cl5, lattice / cl5 <= 3, "<= 3x"),
+    ("ASYNC x100 against coarse durations, n = 10^4, per activation", fine_act / coarse_act, fine_act / coarse_act <= 1.5, "<= 1.5x"),
+    ("ASYNC coarse against FSYNC, per activation (us: %.2f against %.2f)" % (coarse_act, fsync_act), coarse_act / fsync_act, coarse_act / fsync_act <= 2, "<= 2x"),
+    ("ASYNC 2 threads against 1, n = 10^5", async5_one / async5, async5_one / async5 >= 1.6, ">= 1.6x"),
 ]
 if numpy is not None:
     rows.append(("numpy against monoculus (1 thread)", numpy / ours, numpy / ours >= 100, ">= 100x"))
