@@ -4,10 +4,12 @@
 //! positions. Time is counted in epochs: the shortest spans in which every robot
 //! completes at least one full cycle.
 
+mod committed;
 mod components;
 mod spec;
 mod systems;
 
+pub use committed::CommittedHull;
 pub use components::{AsyncClock, Phase, RobotEntities, Timing};
 pub use spec::{AsyncSpec, AsyncStart, TickDist};
 pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};

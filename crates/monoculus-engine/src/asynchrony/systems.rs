@@ -5,7 +5,7 @@ use monoculus_core::algorithms::RobotMemory;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
-use super::{AsyncClock, AsyncSpec, Phase, RobotEntities, TickDist, Timing};
+use super::{AsyncClock, AsyncSpec, CommittedHull, Phase, RobotEntities, TickDist, Timing};
 use crate::components::{Memory, Robot};
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
 use crate::systems::{build_sight, decide_one, realise};
@@ -77,6 +77,7 @@ pub fn finish_moves<P: IndexPoint>(
     mut clock: ResMut<AsyncClock>,
     entities: Res<RobotEntities>,
     mut positions: ResMut<Positions<P>>,
+    mut committed: ResMut<CommittedHull<P>>,
     mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
@@ -87,6 +88,7 @@ pub fn finish_moves<P: IndexPoint>(
             .expect("robot entity");
         if timing.phase == Phase::Move && timing.until == t {
             if timing.pending.take().is_some() {
+                committed.remove(positions.points[r as usize]);
                 positions.points[r as usize] = timing.target;
                 clock.move_ended = true;
                 clock.in_motion -= 1;
@@ -181,6 +183,7 @@ pub fn look<P: IndexPoint>(
     entities: Res<RobotEntities>,
     positions: Res<Positions<P>>,
     mut tally: ResMut<Tally>,
+    mut committed: ResMut<CommittedHull<P>>,
     mut robots: Query<LookerData<P>>,
 ) {
     let t = clock.tick;
@@ -234,9 +237,11 @@ pub fn look<P: IndexPoint>(
         timing.cycle += 1;
         clock.schedule(timing.until, r);
         clock.epoch_looks += 1;
-        if d.is_some() {
+        if let Some(d) = d {
             clock.in_motion += 1;
             clock.move_decided = true;
+            // As `committed_points` lists it.
+            committed.add(positions.points[r as usize] + d);
         }
     }
     tally.activations += lookers.len() as u64;
@@ -269,19 +274,25 @@ pub fn account<P: IndexPoint>(
     positions: Res<Positions<P>>,
     mut shape: ResMut<Shape>,
     mut tally: ResMut<Tally>,
+    mut kept: ResMut<CommittedHull<P>>,
     robots: Query<(&Robot, &Timing<P>)>,
 ) {
     clock.account();
     let tick = clock.tick;
     let pos = &positions.points;
     let robots = &robots;
+    let all = || committed_points(robots.iter().map(|(r, t)| (pos[r.index as usize], *t)));
     // The two measures are independent: taken at once where a core is free.
     let (committed, measured) = rayon::join(
         || {
             (clock.move_ended || clock.move_decided).then(|| {
-                P::hull_measure(&committed_points(
-                    robots.iter().map(|(r, t)| (pos[r.index as usize], *t)),
-                ))
+                let measure = kept.measure(all);
+                debug_assert_eq!(
+                    measure.to_bits(),
+                    P::hull_measure(&all()).to_bits(),
+                    "the hull kept across ticks is the hull over all committed points"
+                );
+                measure
             })
         },
         || {
