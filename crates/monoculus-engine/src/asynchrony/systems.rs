@@ -5,7 +5,9 @@ use monoculus_core::algorithms::RobotMemory;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
-use super::{AsyncClock, AsyncSpec, CommittedHull, Phase, RobotEntities, TickDist, Timing};
+use super::{
+    AsyncClock, AsyncSpec, CommittedHull, KeptShape, Phase, RobotEntities, TickDist, Timing,
+};
 use crate::components::{Memory, Robot};
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
 use crate::systems::{build_sight, decide_one, realise};
@@ -78,6 +80,7 @@ pub fn finish_moves<P: IndexPoint>(
     entities: Res<RobotEntities>,
     mut positions: ResMut<Positions<P>>,
     mut committed: ResMut<CommittedHull<P>>,
+    mut kept_shape: ResMut<KeptShape<P>>,
     mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
@@ -90,6 +93,7 @@ pub fn finish_moves<P: IndexPoint>(
             if timing.pending.take().is_some() {
                 committed.remove(positions.points[r as usize]);
                 positions.points[r as usize] = timing.target;
+                kept_shape.arrive(r, timing.target);
                 clock.move_ended = true;
                 clock.in_motion -= 1;
             }
@@ -108,6 +112,7 @@ pub fn finish_computes<P: IndexPoint>(
     entities: Res<RobotEntities>,
     mut tally: ResMut<Tally>,
     positions: Res<Positions<P>>,
+    mut kept_shape: ResMut<KeptShape<P>>,
     mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
@@ -129,6 +134,7 @@ pub fn finish_computes<P: IndexPoint>(
         timing.target = position + d.unwrap_or(position * 0.0);
         timing.pending = d;
         if let Some(d) = d {
+            kept_shape.depart(r, position, *timing);
             tally.moves += 1;
             tally.distance += d.length();
             clock.epoch_moves += 1;
@@ -275,6 +281,7 @@ pub fn account<P: IndexPoint>(
     mut shape: ResMut<Shape>,
     mut tally: ResMut<Tally>,
     mut kept: ResMut<CommittedHull<P>>,
+    mut kept_shape: ResMut<KeptShape<P>>,
     robots: Query<(&Robot, &Timing<P>)>,
 ) {
     clock.account();
@@ -297,13 +304,19 @@ pub fn account<P: IndexPoint>(
         },
         || {
             clock.move_ended.then(|| {
-                Shape::of(&positions_now(
-                    tick,
-                    pos,
+                let clocks = || {
                     robots
                         .iter()
-                        .map(|(r, timing)| (r.index, pos[r.index as usize], *timing)),
-                ))
+                        .map(|(r, timing)| (r.index, pos[r.index as usize], *timing))
+                };
+                let now = || positions_now(tick, pos, clocks());
+                let shape = kept_shape.shape(tick, clocks, now);
+                debug_assert_eq!(
+                    format!("{shape:?}"),
+                    format!("{:?}", Shape::of(&now())),
+                    "the shape from the robots that can be on the hull is the shape of all"
+                );
+                shape
             })
         },
     );

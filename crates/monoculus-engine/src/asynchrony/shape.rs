@@ -1,0 +1,167 @@
+//! [`KeptShape`]: the shape of the swarm at each tick, from the robots that can be on
+//! its hull.
+
+use bevy_ecs::prelude::*;
+
+use super::Timing;
+use crate::IndexPoint;
+use crate::resources::Shape;
+
+/// What the shape of the swarm at a tick (hull, diameter, extents) is computed from,
+/// kept across ticks: the hull of the robots at rest, and the robots in mid-move
+/// whose segment is not certainly strictly inside it. Every other robot lies strictly
+/// inside a hull of robots of the swarm, so it is no vertex of the swarm's hull: the
+/// hull over these points has the vertices of the hull over all robots, and the
+/// measures (all taken from the vertices, extents included) are the same to the bit
+/// (checked against the full computation at every tick in debug builds, so in every
+/// test). A move that starts at a vertex of the robots at rest makes their hull be taken
+/// again over all robots (about once per cycle per vertex).
+///
+/// In space, and while the robots at rest have fewer than three hull vertices, the
+/// shape is taken over all robots.
+#[derive(Resource, Clone, Debug)]
+pub struct KeptShape<P: IndexPoint> {
+    /// The hull of the robots at rest (valid while `kept`).
+    rest: Vec<P>,
+    kept: bool,
+    /// Whether a robot that may be a vertex of `rest` started to move.
+    stale: bool,
+    /// Movers whose segment may leave `rest`: robot, start point, clock.
+    outside: Vec<(u32, P, Timing<P>)>,
+    /// Where each robot is in `outside` (`u32::MAX`: not there).
+    slot: Vec<u32>,
+}
+
+const ABSENT: u32 = u32::MAX;
+
+impl<P: IndexPoint> KeptShape<P> {
+    /// For a swarm at rest at `initial`.
+    pub fn new(initial: &[P]) -> Self {
+        let rest = P::hull_vertices(initial);
+        KeptShape {
+            kept: rest.len() >= 3,
+            rest,
+            stale: false,
+            outside: Vec::new(),
+            slot: vec![ABSENT; initial.len()],
+        }
+    }
+
+    /// Whether the whole segment of a mover, and every point within the rounding of
+    /// an interpolation along it, lies strictly inside the hull at rest: the corners of
+    /// the boxes of that size around both ends are.
+    fn certainly_inside(&self, from: P, to: P) -> bool {
+        let scale = (0..P::DIM)
+            .map(|a| from.axis(a).abs().max(to.axis(a).abs()))
+            .fold(0.0, f64::max);
+        let e = 16.0 * f64::EPSILON * scale + f64::MIN_POSITIVE;
+        [from, to].into_iter().all(|p| {
+            (0..1usize << P::DIM).all(|corner| {
+                let q = (0..P::DIM).fold(p, |q, a| {
+                    let sign = if corner >> a & 1 == 1 { e } else { -e };
+                    q + P::unit_axis(a) * sign
+                });
+                P::strictly_inside(&self.rest, q)
+            })
+        })
+    }
+
+    fn track(&mut self, robot: u32, from: P, timing: Timing<P>) {
+        if self.certainly_inside(from, timing.target) {
+            return;
+        }
+        match self.slot[robot as usize] {
+            ABSENT => {
+                self.slot[robot as usize] = self.outside.len() as u32;
+                self.outside.push((robot, from, timing));
+            }
+            at => self.outside[at as usize] = (robot, from, timing),
+        }
+    }
+
+    fn untrack(&mut self, robot: u32) {
+        let at = std::mem::replace(&mut self.slot[robot as usize], ABSENT);
+        if at != ABSENT {
+            self.outside.swap_remove(at as usize);
+            if let Some(&(moved, _, _)) = self.outside.get(at as usize) {
+                self.slot[moved as usize] = at;
+            }
+        }
+    }
+
+    /// Robot `robot` starts a move from `from` (its clock says where to and when).
+    pub fn depart(&mut self, robot: u32, from: P, timing: Timing<P>) {
+        if !self.kept || self.stale {
+            return;
+        }
+        if !P::strictly_inside(&self.rest, from) {
+            self.stale = true;
+            return;
+        }
+        self.track(robot, from, timing);
+    }
+
+    /// Robot `robot` ended its move at `at`, and is at rest there.
+    pub fn arrive(&mut self, robot: u32, at: P) {
+        self.untrack(robot);
+        if !self.kept || self.stale || P::strictly_inside(&self.rest, at) {
+            return;
+        }
+        let mut points = std::mem::take(&mut self.rest);
+        points.push(at);
+        self.rest = P::hull_vertices(&points);
+        self.kept = self.rest.len() >= 3;
+    }
+
+    /// The shape at `tick`. `robots` lists every robot's start point and clock, asked
+    /// for only when the hull at rest must be taken again over all robots; `all`
+    /// gives every robot's position at `tick`, asked for only where nothing is kept.
+    pub fn shape<I: Iterator<Item = (u32, P, Timing<P>)>>(
+        &mut self,
+        tick: u64,
+        robots: impl Fn() -> I,
+        all: impl FnOnce() -> Vec<P>,
+    ) -> Shape {
+        if P::DIM != 2 {
+            return Shape::of(&all());
+        }
+        if self.stale || !self.kept {
+            self.rebuild(robots());
+        }
+        if !self.kept {
+            return Shape::of(&all());
+        }
+        let mut points = self.rest.clone();
+        points.extend(
+            self.outside
+                .iter()
+                .map(|&(_, from, timing)| timing.position_at(from, tick)),
+        );
+        Shape::of(&points)
+    }
+
+    fn rebuild(&mut self, robots: impl Iterator<Item = (u32, P, Timing<P>)>) {
+        let moving = |t: &Timing<P>| t.phase == super::Phase::Move && t.pending.is_some();
+        let mut at_rest = Vec::new();
+        let mut movers = Vec::new();
+        for (robot, from, timing) in robots {
+            if moving(&timing) {
+                movers.push((robot, from, timing));
+            } else {
+                at_rest.push(from);
+            }
+        }
+        self.rest = P::hull_vertices(&at_rest);
+        self.kept = self.rest.len() >= 3;
+        self.stale = false;
+        for &(robot, _, _) in &self.outside {
+            self.slot[robot as usize] = ABSENT;
+        }
+        self.outside.clear();
+        if self.kept {
+            for (robot, from, timing) in movers {
+                self.track(robot, from, timing);
+            }
+        }
+    }
+}
