@@ -23,6 +23,8 @@ use crate::resources::Shape;
 pub struct KeptShape<P: IndexPoint> {
     /// The hull of the robots at rest (valid while `kept`).
     rest: Vec<P>,
+    /// A disc certainly inside `rest`, as centre and radius: the cheap first test.
+    disc: (P, f64),
     kept: bool,
     /// Whether a robot that may be a vertex of `rest` started to move.
     stale: bool,
@@ -30,7 +32,18 @@ pub struct KeptShape<P: IndexPoint> {
     outside: Vec<(u32, P, Timing<P>)>,
     /// Where each robot is in `outside` (`u32::MAX`: not there).
     slot: Vec<u32>,
+    /// Shapes asked for since the hull at rest was last taken over all robots.
+    since_rebuild: u32,
+    /// Shapes still to take over all robots, keeping nothing: where the hull at rest
+    /// must be taken again within a few ticks (short cycles), keeping it costs more
+    /// than it saves.
+    plain: u32,
 }
+
+/// A hull at rest that lasts fewer shapes than this...
+const SHORT_LIVED: u32 = 4;
+/// ...makes this many shapes be taken over all robots before trying again.
+const PLAIN: u32 = 64;
 
 const ABSENT: u32 = u32::MAX;
 
@@ -40,34 +53,46 @@ impl<P: IndexPoint> KeptShape<P> {
         let rest = P::hull_vertices(initial);
         KeptShape {
             kept: rest.len() >= 3,
+            disc: inner_disc(&rest),
             rest,
             stale: false,
             outside: Vec::new(),
             slot: vec![ABSENT; initial.len()],
+            since_rebuild: 0,
+            plain: 0,
         }
     }
 
     /// Whether the whole segment of a mover, and every point within the rounding of
     /// an interpolation along it, lies strictly inside the hull at rest: the corners of
     /// the boxes of that size around both ends are.
-    fn certainly_inside(&self, from: P, to: P) -> bool {
+    fn certainly_inside(&self, from: P, to: P, exact: bool) -> bool {
         let scale = (0..P::DIM)
             .map(|a| from.axis(a).abs().max(to.axis(a).abs()))
             .fold(0.0, f64::max);
         let e = 16.0 * f64::EPSILON * scale + f64::MIN_POSITIVE;
-        [from, to].into_iter().all(|p| {
-            (0..1usize << P::DIM).all(|corner| {
-                let q = (0..P::DIM).fold(p, |q, a| {
-                    let sign = if corner >> a & 1 == 1 { e } else { -e };
-                    q + P::unit_axis(a) * sign
-                });
-                P::strictly_inside(&self.rest, q)
+        // The disc is convex: both ends well inside it put the segment inside.
+        let (centre, radius) = self.disc;
+        let room = radius - e - 1e-9 * (scale + radius);
+        if [from, to].iter().all(|&p| (p - centre).length() < room) {
+            return true;
+        }
+        exact
+            && [from, to].into_iter().all(|p| {
+                (0..1usize << P::DIM).all(|corner| {
+                    let q = (0..P::DIM).fold(p, |q, a| {
+                        let sign = if corner >> a & 1 == 1 { e } else { -e };
+                        q + P::unit_axis(a) * sign
+                    });
+                    P::strictly_inside(&self.rest, q)
+                })
             })
-        })
     }
 
-    fn track(&mut self, robot: u32, from: P, timing: Timing<P>) {
-        if self.certainly_inside(from, timing.target) {
+    /// Keeps a mover among those that may leave the hull at rest unless it certainly
+    /// does not (`exact`: also by the exact test of its ends, else the disc only).
+    fn track(&mut self, robot: u32, from: P, timing: Timing<P>, exact: bool) {
+        if self.certainly_inside(from, timing.target, exact) {
             return;
         }
         match self.slot[robot as usize] {
@@ -98,7 +123,7 @@ impl<P: IndexPoint> KeptShape<P> {
             self.stale = true;
             return;
         }
-        self.track(robot, from, timing);
+        self.track(robot, from, timing, true);
     }
 
     /// Robot `robot` ended its move at `at`, and is at rest there.
@@ -111,6 +136,7 @@ impl<P: IndexPoint> KeptShape<P> {
         points.push(at);
         self.rest = P::hull_vertices(&points);
         self.kept = self.rest.len() >= 3;
+        // The hull grew: the old disc is still inside it.
     }
 
     /// The shape at `tick`. `robots` lists every robot's start point and clock, asked
@@ -125,12 +151,28 @@ impl<P: IndexPoint> KeptShape<P> {
         if P::DIM != 2 {
             return Shape::of(&all());
         }
-        if self.stale || !self.kept {
-            self.rebuild(robots());
-        }
-        if !self.kept {
+        if self.plain > 0 {
+            self.plain -= 1;
             return Shape::of(&all());
         }
+        if self.stale && self.since_rebuild < SHORT_LIVED {
+            self.kept = false;
+            self.plain = PLAIN;
+            // Taken again over all robots once the plain shapes are done.
+            self.since_rebuild = SHORT_LIVED;
+            return Shape::of(&all());
+        }
+        if self.stale || !self.kept {
+            self.rebuild(robots());
+            self.since_rebuild = 0;
+            if !self.kept {
+                // Fewer than three vertices at rest (a line of robots): nothing to keep.
+                self.plain = PLAIN;
+                self.since_rebuild = SHORT_LIVED;
+                return Shape::of(&all());
+            }
+        }
+        self.since_rebuild = self.since_rebuild.saturating_add(1);
         let mut points = self.rest.clone();
         points.extend(
             self.outside
@@ -153,6 +195,7 @@ impl<P: IndexPoint> KeptShape<P> {
         }
         self.rest = P::hull_vertices(&at_rest);
         self.kept = self.rest.len() >= 3;
+        self.disc = inner_disc(&self.rest);
         self.stale = false;
         for &(robot, _, _) in &self.outside {
             self.slot[robot as usize] = ABSENT;
@@ -160,8 +203,34 @@ impl<P: IndexPoint> KeptShape<P> {
         self.outside.clear();
         if self.kept {
             for (robot, from, timing) in movers {
-                self.track(robot, from, timing);
+                self.track(robot, from, timing, false);
             }
         }
     }
+}
+
+/// A disc inside the convex polygon `hull` (counter-clockwise, at least three
+/// vertices; else an empty disc): around the mean of the vertices, with the smallest
+/// distance from it to an edge's line, shrunk by a millionth for rounding.
+fn inner_disc<P: IndexPoint>(hull: &[P]) -> (P, f64) {
+    if hull.len() < 3 || P::DIM != 2 {
+        return (P::zero(), f64::NEG_INFINITY);
+    }
+    let centre = hull.iter().fold(P::zero(), |c, &v| c + v) * (1.0 / hull.len() as f64);
+    let radius = (0..hull.len())
+        .map(|k| {
+            let (a, b) = (hull[k], hull[(k + 1) % hull.len()]);
+            let (e, r) = (b - a, centre - a);
+            // The distance from `centre` to the line through a and b.
+            (e.axis(0) * r.axis(1) - e.axis(1) * r.axis(0)).abs() / e.length()
+        })
+        .fold(f64::INFINITY, f64::min);
+    (
+        centre,
+        if radius.is_finite() {
+            radius * (1.0 - 1e-6)
+        } else {
+            f64::NEG_INFINITY
+        },
+    )
 }
