@@ -39,6 +39,11 @@ impl<P: IndexPoint> CommittedHull<P> {
         }
     }
 
+    /// The measure last taken (at the start, that of the initial positions).
+    pub fn last(&self) -> f64 {
+        self.measure
+    }
+
     /// A Look decided a move to `p`.
     pub fn add(&mut self, p: P) {
         self.added.push(p);

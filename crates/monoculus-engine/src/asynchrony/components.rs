@@ -83,8 +83,6 @@ pub struct AsyncClock {
     pub last_epoch: (u64, u64),
     /// Whether a Look at the current tick decided a move.
     pub move_decided: bool,
-    /// Area of the hull of positions and committed destinations, last measured.
-    pub committed_hull: f64,
 }
 
 impl AsyncClock {

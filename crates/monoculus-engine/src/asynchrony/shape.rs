@@ -95,13 +95,10 @@ impl<P: IndexPoint> KeptShape<P> {
         if self.certainly_inside(from, timing.target, exact) {
             return;
         }
-        match self.slot[robot as usize] {
-            ABSENT => {
-                self.slot[robot as usize] = self.outside.len() as u32;
-                self.outside.push((robot, from, timing));
-            }
-            at => self.outside[at as usize] = (robot, from, timing),
-        }
+        // A robot departs only once its last move ended, which untracked it.
+        debug_assert_eq!(self.slot[robot as usize], ABSENT);
+        self.slot[robot as usize] = self.outside.len() as u32;
+        self.outside.push((robot, from, timing));
     }
 
     fn untrack(&mut self, robot: u32) {

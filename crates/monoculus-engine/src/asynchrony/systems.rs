@@ -289,6 +289,7 @@ pub fn account<P: IndexPoint>(
     let pos = &positions.points;
     let robots = &robots;
     let all = || committed_points(robots.iter().map(|(r, t)| (pos[r.index as usize], *t)));
+    let committed_before = kept.last();
     // The two measures are independent: taken at once where a core is free.
     let (committed, measured) = rayon::join(
         || {
@@ -320,11 +321,8 @@ pub fn account<P: IndexPoint>(
             })
         },
     );
-    if let Some(committed) = committed {
-        if crate::systems::hull_grew(clock.committed_hull, committed) {
-            tally.committed_hull_growth += 1;
-        }
-        clock.committed_hull = committed;
+    if committed.is_some_and(|now| crate::systems::hull_grew(committed_before, now)) {
+        tally.committed_hull_growth += 1;
     }
     if let Some(mut measured) = measured {
         crate::systems::record_hull(&mut tally, &shape, &mut measured);

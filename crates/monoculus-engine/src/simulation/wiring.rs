@@ -19,7 +19,6 @@ pub(super) fn wire_async<P: IndexPoint>(
         v.into_iter().map(|(_, e)| e).collect()
     };
     let mut clock = AsyncClock::new(initial.len());
-    clock.committed_hull = hull_initial;
     for (i, &e) in entities.iter().enumerate() {
         let until = match spec.start {
             AsyncStart::Together => 0,
