@@ -44,7 +44,7 @@ pub use error::{EngineError, MAX_MAGNITUDE, MAX_ROBOTS};
 pub use index::{IndexPoint, IndexedSight, SegmentGrid, Tube};
 pub use resources::SightBackend;
 pub use scheduler::{SchedulerSpec, SequentialOrder};
-pub use simulation::{RoundReport, RunOutcome, SimConfig, Simulation};
+pub use simulation::{Activity, RobotView, RoundReport, RunOutcome, SimConfig, Simulation};
 pub use stop::{StopCriterion, StopSpec};
 pub use systems::RoundSet;
 

@@ -248,3 +248,49 @@ fn under_async_the_hull_of_positions_alone_can_grow() {
     });
     assert!(grew);
 }
+
+#[test]
+fn watching_a_run_tick_by_tick_does_not_change_it() {
+    let schedulers = [
+        SchedulerSpec::Fsync,
+        SchedulerSpec::Ssync {
+            p: 0.5,
+            fairness: None,
+        },
+        SchedulerSpec::Async(random_timing(AsyncStart::Random)),
+    ];
+    for scheduler in schedulers {
+        for kind in [
+            AlgorithmKind::ConvergeLocality,
+            AlgorithmKind::ConvergeQuadrantTermination,
+        ] {
+            let cfg = common::config(kind, scheduler, 5);
+            let start = common::square(30, 8.0, 5);
+            let plain = Simulation::new(cfg, start.clone()).unwrap().run();
+            let mut sim = Simulation::new(cfg, start).unwrap();
+            let mut steps = 0u64;
+            let mut times = Vec::new();
+            let watched = sim.run_observed(|s| {
+                steps += 1;
+                times.push(s.time());
+                let views = s.robot_views();
+                assert_eq!(views.len(), 30);
+                assert_eq!(s.positions_now().len(), 30);
+                let has_memory = kind.has_memory();
+                assert!(views.iter().all(|v| v.memory.is_some() == has_memory));
+            });
+            assert_eq!(watched, plain, "{scheduler:?} {kind:?}");
+            match scheduler {
+                // The start and every counted round.
+                SchedulerSpec::Async(_) => {
+                    assert!(steps > watched.rounds, "a step per event tick");
+                    assert_eq!(times.last().copied(), watched.ticks);
+                }
+                _ => {
+                    assert_eq!(steps, watched.rounds + 1);
+                    assert!(times.windows(2).all(|t| t[1] == t[0] + 1));
+                }
+            }
+        }
+    }
+}

@@ -15,4 +15,4 @@ pub use components::{AsyncClock, Phase, RobotEntities, Timing};
 pub use shape::KeptShape;
 pub use spec::{AsyncSpec, AsyncStart, TickDist};
 pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};
-pub(crate) use systems::{START, duration};
+pub(crate) use systems::{START, duration, positions_now};

@@ -2,7 +2,10 @@
 
 mod build;
 mod run;
+mod view;
 mod wiring;
+
+pub use view::{Activity, RobotView};
 
 use bevy_ecs::prelude::*;
 use monoculus_core::algorithms::{AlgorithmParams, RobotMemory};

@@ -85,12 +85,22 @@ impl<P: IndexPoint> Simulation<P> {
     }
 
     /// Runs to the stop criterion, calling `on_round` with the start configuration
-    /// (round 0) and after every counted round.
+    /// (round 0) and after every counted round (ASYNC: every completed epoch).
     pub fn run_with(&mut self, mut on_round: impl FnMut(&RoundReport<'_, P>)) -> RunOutcome {
         on_round(&self.report(0));
         if matches!(self.config.scheduler, SchedulerSpec::Async(_)) {
-            return self.run_async(on_round);
+            return self.run_async_with(|sim, epoch_ended| {
+                if epoch_ended {
+                    let epochs = sim.world.resource::<AsyncClock>().epochs;
+                    on_round(&sim.report(epochs));
+                }
+            });
         }
+        self.run_rounds_with(|sim, round| on_round(&sim.report(round)))
+    }
+
+    /// The round schedulers' loop: `after` is called after every counted round.
+    pub(super) fn run_rounds_with(&mut self, mut after: impl FnMut(&Self, u64)) -> RunOutcome {
         let fsync = self.config.scheduler == SchedulerSpec::Fsync;
         let quiescence = self.config.stop.criterion.checks_quiescence();
         let mut rounds = 0u64;
@@ -120,14 +130,15 @@ impl<P: IndexPoint> Simulation<P> {
                 break true;
             }
             rounds += 1;
-            on_round(&self.report(rounds));
+            after(self, rounds);
         };
         self.outcome(rounds, converged)
     }
 
     /// ASYNC: event tick by event tick; the criterion is checked at the start, after
     /// every tick at which a move ended, and (for quiescence) whenever nobody moves.
-    fn run_async(&mut self, mut on_round: impl FnMut(&RoundReport<'_, P>)) -> RunOutcome {
+    /// `after` is called after every tick, with whether it completed an epoch.
+    pub(super) fn run_async_with(&mut self, mut after: impl FnMut(&Self, bool)) -> RunOutcome {
         let converged = loop {
             if self.criterion_holds() {
                 break true;
@@ -136,11 +147,8 @@ impl<P: IndexPoint> Simulation<P> {
                 break false;
             }
             self.step();
-            let clock = self.world.resource::<AsyncClock>();
-            if clock.epoch_ended {
-                let epochs = clock.epochs;
-                on_round(&self.report(epochs));
-            }
+            let epoch_ended = self.world.resource::<AsyncClock>().epoch_ended;
+            after(self, epoch_ended);
         };
         let epochs = self.world.resource::<AsyncClock>().epochs;
         self.outcome(epochs, converged)

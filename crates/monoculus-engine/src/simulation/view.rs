@@ -1,0 +1,131 @@
+//! Watching a run from outside (the replay): every round, or under ASYNC every event
+//! tick, with each robot's position at that moment and what it is doing.
+
+use super::*;
+
+/// What a robot is doing, as a viewer shows it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Activity {
+    /// Not activated (round schedulers), or waiting for its next Look (ASYNC).
+    Idle,
+    /// Has looked and decided to stay (ASYNC: its Move phase is spent in place).
+    Staying,
+    /// ASYNC: has looked and is computing.
+    Computing,
+    /// Moving (round schedulers: it moved in the last round).
+    Moving,
+}
+
+/// One robot as a viewer sees it after a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RobotView<P> {
+    /// What it is doing.
+    pub activity: Activity,
+    /// Whether it looked in the last step (round schedulers: it was activated; ASYNC: it
+    /// looked at the current tick).
+    pub looked: bool,
+    /// The displacement it decided at its last Look (`None`: stay, or no Look yet).
+    pub decision: Option<P>,
+    /// The termination algorithm's memory.
+    pub memory: Option<RobotMemory>,
+}
+
+impl<P: IndexPoint> Simulation<P> {
+    /// The time of the state: rounds completed, or under ASYNC the current tick.
+    pub fn time(&self) -> u64 {
+        match self.world.get_resource::<AsyncClock>() {
+            Some(clock) => clock.tick,
+            None => self.world.resource::<Clock>().round,
+        }
+    }
+
+    /// Positions by robot index at the current time: under ASYNC the movers where they
+    /// are on their segments (what a Look now would see), otherwise [`Self::positions`].
+    pub fn positions_now(&self) -> Vec<P> {
+        let settled = self.positions();
+        let Some(clock) = self.world.get_resource::<AsyncClock>() else {
+            return settled.to_vec();
+        };
+        let mut q = self
+            .world
+            .try_query::<(&Robot, &Timing<P>)>()
+            .expect("ASYNC robots carry a Timing");
+        asynchrony::positions_now(
+            clock.tick,
+            settled,
+            q.iter(&self.world)
+                .map(|(r, t)| (r.index, settled[r.index as usize], *t)),
+        )
+    }
+
+    /// Every robot's [`RobotView`], by robot index.
+    pub fn robot_views(&self) -> Vec<RobotView<P>> {
+        let n = self.positions().len();
+        let mut views = vec![
+            RobotView {
+                activity: Activity::Idle,
+                looked: false,
+                decision: None,
+                memory: None,
+            };
+            n
+        ];
+        if let Some(clock) = self.world.get_resource::<AsyncClock>() {
+            let mut q = self
+                .world
+                .try_query::<(&Robot, &Timing<P>)>()
+                .expect("ASYNC robots carry a Timing");
+            for (r, t) in q.iter(&self.world) {
+                let looked = t.phase == Phase::Compute && t.looked == clock.tick;
+                let started = t.cycle > 0;
+                views[r.index as usize] = RobotView {
+                    activity: match (t.phase, t.pending) {
+                        (Phase::Idle, _) => Activity::Idle,
+                        (Phase::Compute, _) => Activity::Computing,
+                        (Phase::Move, Some(_)) => Activity::Moving,
+                        (Phase::Move, None) => Activity::Staying,
+                    },
+                    looked,
+                    decision: if started { t.pending } else { None },
+                    memory: None,
+                };
+            }
+        } else {
+            let rounds = self.world.resource::<Clock>().round > 0;
+            let mut q = self
+                .world
+                .try_query::<(&Robot, &Activated, &Intent<P>)>()
+                .expect("robots carry an Intent");
+            for (r, a, intent) in q.iter(&self.world) {
+                let looked = rounds && a.0;
+                views[r.index as usize] = RobotView {
+                    activity: match (looked, intent.0) {
+                        (false, _) => Activity::Idle,
+                        (true, Some(_)) => Activity::Moving,
+                        (true, None) => Activity::Staying,
+                    },
+                    looked,
+                    decision: if looked { intent.0 } else { None },
+                    memory: None,
+                };
+            }
+        }
+        // Only the termination algorithm's robots carry a memory (and register it).
+        if let Some(mut q) = self.world.try_query::<(&Robot, &Memory)>() {
+            for (r, m) in q.iter(&self.world) {
+                views[r.index as usize].memory = Some(m.0);
+            }
+        }
+        views
+    }
+
+    /// Runs to the stop criterion like [`Self::run`], calling `on_step` with the start
+    /// and after every counted round, or under ASYNC after every event tick.
+    pub fn run_observed(&mut self, mut on_step: impl FnMut(&Self)) -> RunOutcome {
+        on_step(self);
+        if matches!(self.config.scheduler, SchedulerSpec::Async(_)) {
+            return self.run_async_with(|sim, _| on_step(sim));
+        }
+        self.run_rounds_with(|sim, _| on_step(sim))
+    }
+}
