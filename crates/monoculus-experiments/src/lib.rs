@@ -5,6 +5,7 @@
 pub mod config;
 pub mod limits;
 pub mod positions;
+pub mod replay;
 pub mod results;
 pub mod runner;
 pub mod shard;

@@ -64,6 +64,94 @@ pub fn read_positions(path: &Path) -> Result<PositionsFile, PositionsError> {
 
 /// Parses a positions CSV from text; `name` labels errors.
 pub fn parse_positions(text: &str, name: &str) -> Result<PositionsFile, PositionsError> {
+    parse_rows(text, name, &[]).map(|(file, _)| file)
+}
+
+/// Every robot's position per round, from a `monoculus trace --positions` file
+/// (columns `round`, `robot`, `x`, `y` and, in space, `z`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TracePositions {
+    /// Whether the file has a z column.
+    pub has_z: bool,
+    /// Per round, in order from round 0: every robot's coordinates, by robot.
+    pub rounds: Vec<Vec<[f64; 3]>>,
+}
+
+/// Reads a trace positions file (see [`TracePositions`]): rounds 0, 1, ... in order,
+/// each listing robots 0..n once.
+pub fn read_trace_positions(path: &Path) -> Result<TracePositions, PositionsError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|cause| PositionsError::Io {
+        path: name.clone(),
+        cause,
+    })?;
+    parse_trace_positions(&text, &name)
+}
+
+/// Parses a trace positions file from text; `name` labels errors.
+pub fn parse_trace_positions(text: &str, name: &str) -> Result<TracePositions, PositionsError> {
+    let perr = |line: usize, message: String| PositionsError::Parse {
+        path: name.to_string(),
+        line,
+        message,
+    };
+    let (file, keys) = parse_rows(text, name, &["round", "robot"])?;
+    // The last round listed as many robots as round 0.
+    let complete = |rounds: &[Vec<[f64; 3]>], line: usize| match rounds {
+        [first, .., last] if last.len() != first.len() => Err(perr(
+            line,
+            format!(
+                "round {} lists {} robots, round 0 lists {}",
+                rounds.len() - 1,
+                last.len(),
+                first.len()
+            ),
+        )),
+        _ => Ok(()),
+    };
+    let mut rounds: Vec<Vec<[f64; 3]>> = Vec::new();
+    for (row, &[round, robot, line]) in file.rows.iter().zip(&keys) {
+        let line = line as usize;
+        if round as usize == rounds.len() {
+            complete(&rounds, line)?;
+            rounds.push(Vec::new());
+        }
+        let count = rounds.len();
+        let Some(current) = rounds.last_mut().filter(|_| round as usize + 1 == count) else {
+            return Err(perr(
+                line,
+                format!(
+                    "column round: {round} out of order (rounds must run 0, 1, 2, ... without gaps; expected {} or {})",
+                    count.saturating_sub(1),
+                    count
+                ),
+            ));
+        };
+        if robot as usize != current.len() {
+            return Err(perr(
+                line,
+                format!(
+                    "column robot: {robot} out of order (expected robot {} of round {round})",
+                    current.len()
+                ),
+            ));
+        }
+        current.push(*row);
+    }
+    complete(&rounds, keys.last().map_or(1, |k| k[2] as usize))?;
+    Ok(TracePositions {
+        has_z: file.has_z,
+        rounds,
+    })
+}
+
+/// The rows of a positions CSV, and per row the values of the integer columns `ints`
+/// followed by the row's 1-based line.
+fn parse_rows(
+    text: &str,
+    name: &str,
+    ints: &[&str],
+) -> Result<(PositionsFile, Vec<[u64; 3]>), PositionsError> {
     let perr = |line: usize, message: String| PositionsError::Parse {
         path: name.to_string(),
         line,
@@ -87,6 +175,21 @@ pub fn parse_positions(text: &str, name: &str) -> Result<PositionsFile, Position
         ));
     };
     let zi = col("z");
+    let int_cols: Vec<usize> = ints
+        .iter()
+        .map(|c| {
+            col(c).ok_or_else(|| {
+                perr(
+                    1,
+                    format!(
+                        "header must name column {c}, got `{}`",
+                        headers.iter().collect::<Vec<_>>().join(",")
+                    ),
+                )
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let mut keys = Vec::new();
     let mut out = Vec::new();
     for record in reader.records() {
         let record = record.map_err(|e| {
@@ -122,14 +225,28 @@ pub fn parse_positions(text: &str, name: &str) -> Result<PositionsFile, Position
             None => 0.0,
         };
         out.push([get(xi, "x")?, get(yi, "y")?, z]);
+        let mut key = [0u64, 0, line as u64];
+        for (k, (&i, c)) in int_cols.iter().zip(ints).enumerate() {
+            let field = record.get(i).unwrap_or("");
+            key[k] = field.parse::<u64>().map_err(|_| {
+                perr(
+                    line,
+                    format!("column {c}: `{field}` is not a non-negative integer"),
+                )
+            })?;
+        }
+        keys.push(key);
     }
     if out.is_empty() {
         return Err(perr(1, "no robots".into()));
     }
-    Ok(PositionsFile {
-        rows: out,
-        has_z: zi.is_some(),
-    })
+    Ok((
+        PositionsFile {
+            rows: out,
+            has_z: zi.is_some(),
+        },
+        keys,
+    ))
 }
 
 #[cfg(test)]
