@@ -12,10 +12,12 @@
 mod error;
 mod font;
 mod legend;
+mod replay;
 mod results;
 mod table;
 mod trace;
 
 pub use error::PlotError;
+pub use replay::{replay_html, replay_json, write_replay_gif, write_replay_html};
 pub use results::plot_results;
 pub use trace::plot_trace;

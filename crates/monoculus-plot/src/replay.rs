@@ -1,0 +1,315 @@
+//! A recorded run ([`Replay`]) as a self-contained HTML player, or as an animated GIF.
+//!
+//! The page embeds its data (numbers in base64 little-endian arrays) and its script; it
+//! loads nothing. Its view fits every drawn position into the canvas with a margin of 30
+//! pixels, y up: a plane point (x, y) is drawn at `(W/2 + (x - cx) s, H/2 - (y - cy) s)`,
+//! `(cx, cy)` the centre of the bounding box and `s = min((W - 60)/(x extent),
+//! (H - 60)/(y extent))`. The address can ask for a frame and the canvas size:
+//! `#round=R` (ASYNC `#tick=T`, or `#frame=K`), `&w=W&h=H`, `&robot=I`, `&yaw=..&pitch=..`
+//! (3D), `&play=1`. The page sets `data-status` on its body to `ready` (or `error`, with
+//! `data-error`, on a script error) and `data-time` to the round or tick shown.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use monoculus_experiments::replay::Replay;
+use plotters::prelude::*;
+
+use crate::PlotError;
+
+static TEMPLATE: &str = include_str!("../assets/replay.html");
+const SLOT: &str = "/*REPLAY_DATA*/";
+
+fn base64(bytes: &[u8]) -> String {
+    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            chunk.get(1).copied().unwrap_or(0),
+            chunk.get(2).copied().unwrap_or(0),
+        ];
+        let v = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ABC[(v >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+fn f32s(values: impl IntoIterator<Item = f32>) -> String {
+    base64(
+        &values
+            .into_iter()
+            .flat_map(f32::to_le_bytes)
+            .collect::<Vec<u8>>(),
+    )
+}
+
+fn u32s(values: impl IntoIterator<Item = u32>) -> String {
+    base64(
+        &values
+            .into_iter()
+            .flat_map(u32::to_le_bytes)
+            .collect::<Vec<u8>>(),
+    )
+}
+
+/// A JSON string literal, safe inside a `<script>` element.
+fn text(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '<' => out.push_str("\\u003c"),
+            '>' => out.push_str("\\u003e"),
+            '&' => out.push_str("\\u0026"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// A JSON number for `x` (non-finite values as null).
+fn number(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x}")
+    } else {
+        "null".to_string()
+    }
+}
+
+fn list<T>(items: &[T], f: impl Fn(&T) -> String) -> String {
+    let v: Vec<String> = items.iter().map(f).collect();
+    format!("[{}]", v.join(","))
+}
+
+/// The replay's data as the page reads it.
+pub fn replay_json(r: &Replay) -> String {
+    let drawn = r.start.len() / r.dim;
+    let mut hull_off = vec![0u64];
+    for f in &r.frames {
+        hull_off.push(hull_off.last().copied().unwrap_or(0) + f.hull.len() as u64);
+    }
+    let mut look_off = vec![0u32];
+    for l in &r.looks {
+        look_off.push(look_off.last().copied().unwrap_or(0) + l.seen.len() as u32);
+    }
+    let frames = format!(
+        "{{\"step\":{},\"pos\":\"{}\",\"state\":\"{}\",\"bits\":\"{}\",\"hull_off\":{},\"hull\":\"{}\"}}",
+        list(&r.frames, |f| f.step.to_string()),
+        f32s(r.frames.iter().flat_map(|f| f.positions.iter().copied())),
+        base64(
+            &r.frames
+                .iter()
+                .flat_map(|f| f.states.iter().copied())
+                .collect::<Vec<u8>>()
+        ),
+        if r.termination {
+            base64(
+                &r.frames
+                    .iter()
+                    .flat_map(|f| f.bits.iter().copied())
+                    .collect::<Vec<u8>>(),
+            )
+        } else {
+            String::new()
+        },
+        list(&hull_off, u64::to_string),
+        f32s(r.frames.iter().flat_map(|f| f.hull.iter().copied())),
+    );
+    let looks = format!(
+        "{{\"frame\":\"{}\",\"robot\":\"{}\",\"dest\":\"{}\",\"off\":\"{}\",\"seen\":\"{}\",\"flags\":\"{}\"}}",
+        u32s(r.looks.iter().map(|l| l.frame as u32)),
+        u32s(r.looks.iter().map(|l| l.robot)),
+        f32s(r.looks.iter().flat_map(|l| match &l.destination {
+            Some(d) => d.clone(),
+            None => vec![f32::NAN; r.dim],
+        })),
+        u32s(look_off),
+        u32s(r.looks.iter().flat_map(|l| l.seen.iter().copied())),
+        base64(
+            &r.looks
+                .iter()
+                .flat_map(|l| l.flags.iter().copied())
+                .collect::<Vec<u8>>()
+        ),
+    );
+    let m = &r.metrics;
+    let metrics = format!(
+        "{{\"time\":{},\"epoch\":{},\"hull\":{},\"diameter\":{},\"moving\":{}}}",
+        list(&m.time, u64::to_string),
+        list(&m.epoch, u64::to_string),
+        list(&m.hull, |&x| number(x)),
+        list(&m.diameter, |&x| number(x)),
+        list(&m.moving, u64::to_string),
+    );
+    format!(
+        "{{\"title\":{},\"subtitle\":{},\"outcome\":{},\"dim\":{},\"n\":{},\"drawn\":{drawn},\"sample\":{},\"stride\":{},\"ticks\":{},\"model\":{},\"locality\":{},\"termination\":{},\"notes\":{},\"looks_note\":{},\"start\":\"{}\",\"frames\":{frames},\"metrics\":{metrics},\"looks\":{looks}}}",
+        text(&r.title),
+        text(&r.subtitle),
+        text(&r.outcome),
+        r.dim,
+        r.n,
+        r.sample,
+        r.stride,
+        r.ticks,
+        text(r.model),
+        number(r.locality),
+        r.termination,
+        list(&r.notes, |s| text(s)),
+        r.looks_note.as_deref().map_or("null".to_string(), text),
+        f32s(r.start.iter().copied()),
+    )
+}
+
+/// The self-contained page of `replay`.
+pub fn replay_html(replay: &Replay) -> String {
+    TEMPLATE.replacen(SLOT, &replay_json(replay), 1)
+}
+
+fn io(path: &Path) -> impl Fn(std::io::Error) -> PlotError + '_ {
+    move |e| PlotError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// Writes the page of `replay` to `path`.
+pub fn write_replay_html(replay: &Replay, path: &Path) -> Result<(), PlotError> {
+    std::fs::write(path, replay_html(replay)).map_err(io(path))
+}
+
+/// Frames of the animation at most (the replay's frames are thinned evenly to it).
+const GIF_FRAMES: usize = 240;
+
+/// Writes `replay` as an animated GIF of `size` pixels (the plane, or the x-y
+/// projection in space): robots coloured as on the page, the hull, the start faint; at
+/// most 240 frames, about 8 seconds (2.5 to 20 frames per second).
+pub fn write_replay_gif(replay: &Replay, path: &Path, size: (u32, u32)) -> Result<(), PlotError> {
+    crate::font::ensure()?;
+    let fail = |message: String| PlotError::Draw {
+        path: path.display().to_string(),
+        message,
+    };
+    if replay.frames.is_empty() {
+        return Err(fail("the replay has no frames".into()));
+    }
+    let dim = replay.dim;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    let all = replay
+        .start
+        .chunks(dim)
+        .chain(replay.frames.iter().flat_map(|f| f.positions.chunks(dim)));
+    for p in all {
+        for k in 0..2 {
+            lo[k] = lo[k].min(f64::from(p[k]));
+            hi[k] = hi[k].max(f64::from(p[k]));
+        }
+    }
+    let (w, h) = (f64::from(size.0), f64::from(size.1));
+    const MARGIN: f64 = 30.0;
+    let top = 24.0;
+    let sx = (w - 2.0 * MARGIN) / (hi[0] - lo[0]);
+    let sy = (h - top - 2.0 * MARGIN) / (hi[1] - lo[1]);
+    let s = match sx.min(sy) {
+        s if s.is_finite() && s > 0.0 => s,
+        _ => 1.0,
+    };
+    let (cx, cy) = ((lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0);
+    let px = |x: f32, y: f32| {
+        (
+            (w / 2.0 + (f64::from(x) - cx) * s) as i32,
+            (top + (h - top) / 2.0 - (f64::from(y) - cy) * s) as i32,
+        )
+    };
+    let keep: Vec<usize> = {
+        let n = replay.frames.len();
+        let k = n.div_ceil(GIF_FRAMES).max(1);
+        let mut v: Vec<usize> = (0..n).step_by(k).collect();
+        if v.last() != Some(&(n - 1)) {
+            v.push(n - 1);
+        }
+        v
+    };
+    // About 8 seconds whatever the number of frames, 2.5 to 20 frames per second.
+    let delay = (8000 / keep.len() as u32).clamp(50, 400);
+    let root = BitMapBackend::gif(path, size, delay)
+        .map_err(|e| fail(e.to_string()))?
+        .into_drawing_area();
+    let colors = [
+        RGBColor(0x6b, 0x72, 0x80),
+        RGBColor(0x25, 0x63, 0xeb),
+        RGBColor(0xd9, 0x77, 0x06),
+        RGBColor(0xdc, 0x26, 0x26),
+    ];
+    let label = if replay.ticks { "tick" } else { "round" };
+    let radius = if replay.start.len() / dim > 500 { 2 } else { 3 };
+    for &k in &keep {
+        let f = &replay.frames[k];
+        let draw = || -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+            root.fill(&WHITE)?;
+            for p in replay.start.chunks(dim) {
+                root.draw(&Circle::new(
+                    px(p[0], p[1]),
+                    1,
+                    RGBColor(0xd1, 0xd5, 0xdb).filled(),
+                ))?;
+            }
+            if f.hull.len() >= 6 {
+                let mut pts: Vec<(i32, i32)> = f.hull.chunks(2).map(|v| px(v[0], v[1])).collect();
+                pts.push(pts[0]);
+                root.draw(&PathElement::new(pts, RGBColor(0x94, 0xa3, 0xb8)))?;
+            }
+            for (j, p) in f.positions.chunks(dim).enumerate() {
+                let c = colors[usize::from(f.states[j]).min(3)];
+                root.draw(&Circle::new(px(p[0], p[1]), radius, c.filled()))?;
+            }
+            let t = replay.metrics.time[f.step];
+            let d = replay.metrics.diameter[f.step];
+            root.draw(&Text::new(
+                format!(
+                    "{label} {t}   diameter {d:.3}   moving {}",
+                    replay.metrics.moving[f.step]
+                ),
+                (8, 6),
+                ("sans-serif", 15).into_font().color(&BLACK),
+            ))?;
+            root.present()?;
+            Ok(())
+        };
+        draw().map_err(|e| fail(e.to_string()))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_matches_the_standard_alphabet_and_padding() {
+        assert_eq!(base64(b""), "");
+        assert_eq!(base64(b"f"), "Zg==");
+        assert_eq!(base64(b"fo"), "Zm8=");
+        assert_eq!(base64(b"foo"), "Zm9v");
+        assert_eq!(base64(b"foobar"), "Zm9vYmFy");
+        assert_eq!(base64(&[0xff, 0xfe, 0x00]), "//4A");
+    }
+
+    #[test]
+    fn text_cannot_close_the_script_element() {
+        let t = text("a</script>\"b\\\n");
+        assert!(!t.contains("</script>"));
+        assert_eq!(t, "\"a\\u003c/script\\u003e\\\"b\\\\\\u000a\"");
+    }
+}
