@@ -19,6 +19,7 @@ mod check;
 mod look;
 mod merge;
 mod plot;
+mod replay;
 mod run;
 mod slurm;
 mod stress;
@@ -56,6 +57,8 @@ enum Command {
     Plot(plot::PlotArgs),
     /// Engine throughput: timed FSYNC rounds on a swarm of density 1.
     Stress(stress::StressArgs),
+    /// A self-contained HTML replay of one run (and with --gif an animation).
+    Replay(replay::ReplayArgs),
     /// Merge the shard files of a results folder into runs.csv and summary.csv.
     Merge(merge::MergeArgs),
     /// Write (and with --submit, submit) Slurm job-array scripts for a sweep or stress runs.
@@ -141,6 +144,25 @@ impl ConfigArgs {
     }
 }
 
+/// The cell `--cell K` names, or the only cell of the config.
+pub fn pick_cell<'a>(
+    exp: &'a Experiment,
+    cell: Option<usize>,
+    config: &std::path::Path,
+) -> Result<&'a monoculus_experiments::Cell, Failure> {
+    match (cell, exp.cells.len()) {
+        (Some(k), n) if k < n => Ok(&exp.cells[k]),
+        (Some(k), n) => Err(Failure::Input(format!(
+            "--cell {k}: the config has {n} cells (0..{n})"
+        ))),
+        (None, 1) => Ok(&exp.cells[0]),
+        (None, n) => Err(Failure::Input(format!(
+            "{}: the config has {n} cells; choose one with --cell K or fix the swept keys with --set",
+            config.display()
+        ))),
+    }
+}
+
 /// The most worker threads a command starts.
 pub const MAX_THREADS: usize = 1024;
 
@@ -188,6 +210,7 @@ fn run_command(cli: Cli) -> Result<(), Failure> {
         Command::Plot(a) => plot::plot(a),
         Command::Stress(a) => stress::stress(a),
         Command::Merge(a) => merge::merge(a),
+        Command::Replay(a) => replay::replay(a),
         Command::Slurm(a) => slurm::slurm(a),
     }
 }

@@ -6,7 +6,7 @@ use monoculus_engine::{IndexPoint, RunOutcome, Simulation};
 use monoculus_experiments::Cell;
 use monoculus_experiments::results::num;
 
-use super::{ConfigArgs, Failure, thread_pool};
+use super::{ConfigArgs, Failure, pick_cell, thread_pool};
 
 #[derive(clap::Args, Debug)]
 pub struct TraceArgs {
@@ -32,21 +32,7 @@ pub struct TraceArgs {
 
 pub fn trace(args: TraceArgs) -> Result<(), Failure> {
     let exp = args.config.load()?;
-    let cell = match (args.cell, exp.cells.len()) {
-        (Some(k), n) if k < n => &exp.cells[k],
-        (Some(k), n) => {
-            return Err(Failure::Input(format!(
-                "--cell {k}: the config has {n} cells (0..{n})"
-            )));
-        }
-        (None, 1) => &exp.cells[0],
-        (None, n) => {
-            return Err(Failure::Input(format!(
-                "{}: the config has {n} cells; choose one with --cell K or fix the swept keys with --set",
-                args.config.config.display()
-            )));
-        }
-    };
+    let cell = pick_cell(&exp, args.cell, &args.config.config)?;
     let pool = thread_pool(args.threads)?;
     let outcome = pool.install(|| match cell.dim() {
         3 => trace_in::<DVec3>(cell, &args),

@@ -1,0 +1,418 @@
+//! Replays in a real browser: headless Chromium opens generated pages, steps to a
+//! round (or tick, or frame), and the page must raise no script error, show the time
+//! asked for, and draw the robots where the positions say.
+//!
+//! These tests need Chromium, so `cargo test` skips them (ignored); `scripts/browser-ci.sh`
+//! installs Debian's `chromium` and runs them (`.ci/run` calls it after the tests):
+//!     cargo test -p monoculus-cli --test browser -- --ignored
+//! The browser is found as `$MONOCULUS_CHROMIUM`, else `chromium` on the PATH.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::ok;
+
+fn configs(name: &str) -> String {
+    format!("{}/../../configs/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// One headless Chromium, each call a fresh process with its own profile folder under
+/// `dir` (killed if it outlives its deadline).
+struct Browser {
+    exe: PathBuf,
+    dir: tempfile::TempDir,
+    runs: std::cell::Cell<usize>,
+}
+
+impl Browser {
+    fn new() -> Browser {
+        let exe = std::env::var_os("MONOCULUS_CHROMIUM")
+            .map(PathBuf::from)
+            .or_else(|| {
+                std::env::var_os("PATH").and_then(|paths| {
+                    std::env::split_paths(&paths)
+                        .map(|p| p.join("chromium"))
+                        .find(|p| p.is_file())
+                })
+            })
+            .expect(
+                "no Chromium: set MONOCULUS_CHROMIUM or install it (scripts/browser-ci.sh does)",
+            );
+        let base = std::env::var_os("MONOCULUS_BROWSER_TMP").map(PathBuf::from);
+        let dir = match base {
+            Some(b) => tempfile::tempdir_in(b).unwrap(),
+            None => tempfile::tempdir().unwrap(),
+        };
+        Browser {
+            exe,
+            dir,
+            runs: std::cell::Cell::new(0),
+        }
+    }
+
+    /// Runs Chromium on `url` with `extra` arguments; its standard output.
+    fn run(&self, url: &str, extra: &[String]) -> String {
+        let k = self.runs.get();
+        self.runs.set(k + 1);
+        let profile = self.dir.path().join(format!("profile-{k}"));
+        let mut child = Command::new(&self.exe)
+            .args([
+                "--headless=new",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--no-first-run",
+                "--hide-scrollbars",
+                "--force-device-scale-factor=1",
+                "--virtual-time-budget=5000",
+            ])
+            .arg(format!("--user-data-dir={}", profile.display()))
+            .args(extra)
+            .arg(url)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("chromium starts");
+        let deadline = Instant::now() + Duration::from_secs(90);
+        let mut stdout = child.stdout.take().unwrap();
+        let reader = std::thread::spawn(move || {
+            let mut s = String::new();
+            std::io::Read::read_to_string(&mut stdout, &mut s).ok();
+            s
+        });
+        loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                assert!(status.success(), "chromium failed on {url}: {status}");
+                break;
+            }
+            if Instant::now() > deadline {
+                child.kill().ok();
+                child.wait().ok();
+                panic!("chromium did not finish on {url} within 90 s");
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        reader.join().unwrap()
+    }
+
+    /// The page's body attributes after its script ran: `data-status`, `data-time`...
+    fn body(&self, url: &str) -> Body {
+        let dom = self.run(url, &["--dump-dom".to_string()]);
+        let start = dom.find("<body").expect("a body in the DOM");
+        let tag = &dom[start..start + dom[start..].find('>').unwrap()];
+        let attr = |name: &str| {
+            let key = format!("{name}=\"");
+            tag.find(&key).map(|i| {
+                let rest = &tag[i + key.len()..];
+                rest[..rest.find('"').unwrap()].to_string()
+            })
+        };
+        Body {
+            status: attr("data-status").unwrap_or_default(),
+            time: attr("data-time"),
+            frame: attr("data-frame"),
+            error: attr("data-error"),
+            dom,
+        }
+    }
+
+    /// A screenshot of the window (`w` x `h` pixels) as RGB rows.
+    fn screenshot(&self, url: &str, w: u32, h: u32) -> Shot {
+        let png = self
+            .dir
+            .path()
+            .join(format!("shot-{}.png", self.runs.get()));
+        self.run(
+            url,
+            &[
+                format!("--window-size={w},{h}"),
+                format!("--screenshot={}", png.display()),
+            ],
+        );
+        let decoder = png::Decoder::new(std::io::BufReader::new(
+            std::fs::File::open(&png).expect("chromium wrote the screenshot"),
+        ));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        let channels = info.color_type.samples();
+        Shot {
+            width: info.width,
+            height: info.height,
+            channels,
+            data: buf[..info.buffer_size()].to_vec(),
+        }
+    }
+}
+
+struct Body {
+    status: String,
+    time: Option<String>,
+    frame: Option<String>,
+    error: Option<String>,
+    dom: String,
+}
+
+impl Body {
+    fn ready(&self, what: &str) {
+        assert_eq!(self.error, None, "{what}: script error");
+        assert_eq!(self.status, "ready", "{what}: the page did not finish");
+    }
+}
+
+struct Shot {
+    width: u32,
+    height: u32,
+    channels: usize,
+    data: Vec<u8>,
+}
+
+impl Shot {
+    fn rgb(&self, x: u32, y: u32) -> [u8; 3] {
+        let i = (y as usize * self.width as usize + x as usize) * self.channels;
+        [self.data[i], self.data[i + 1], self.data[i + 2]]
+    }
+
+    /// Pixels of the canvas (`w` x `h` at the top left) in a robot colour.
+    fn robot_pixels(&self, w: u32, h: u32) -> usize {
+        let mut n = 0;
+        for y in 0..h.min(self.height) {
+            for x in 0..w.min(self.width) {
+                if is_robot(self.rgb(x, y)) {
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+}
+
+/// The page's robot colours (idle, stays, computing, moving; in space also by depth).
+const ROBOT: [[u8; 3]; 4] = [
+    [0x6b, 0x72, 0x80],
+    [0x25, 0x63, 0xeb],
+    [0xd9, 0x77, 0x06],
+    [0xdc, 0x26, 0x26],
+];
+
+fn is_robot(c: [u8; 3]) -> bool {
+    ROBOT
+        .iter()
+        .any(|r| r.iter().zip(&c).all(|(a, b)| a.abs_diff(*b) <= 6))
+}
+
+fn url(page: &Path, hash: &str) -> String {
+    format!("file://{}#{hash}", page.display())
+}
+
+/// Every robot's position per round from a `trace --positions` file.
+fn trace_rounds(path: &Path) -> Vec<Vec<[f64; 2]>> {
+    let mut rounds: Vec<Vec<[f64; 2]>> = Vec::new();
+    let mut r = csv::Reader::from_path(path).unwrap();
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        let round: usize = rec[0].parse().unwrap();
+        if round == rounds.len() {
+            rounds.push(Vec::new());
+        }
+        rounds[round].push([rec[2].parse().unwrap(), rec[3].parse().unwrap()]);
+    }
+    rounds
+}
+
+#[test]
+#[ignore = "needs headless Chromium: scripts/browser-ci.sh"]
+fn a_plane_replay_draws_the_robots_where_the_trace_puts_them() {
+    let browser = Browser::new();
+    let tmp = tempfile::tempdir().unwrap();
+    let config = configs("replay/paper_run.toml");
+    let page = tmp.path().join("paper.html");
+    ok(&[
+        "replay",
+        &config,
+        "--seed",
+        "0",
+        "--out",
+        page.to_str().unwrap(),
+    ]);
+    let trace = tmp.path().join("paper.csv");
+    ok(&[
+        "trace",
+        &config,
+        "--seed",
+        "0",
+        "--out",
+        trace.to_str().unwrap(),
+        "--positions",
+    ]);
+    let rounds = trace_rounds(&tmp.path().join("paper.positions.csv"));
+    let round = 3;
+    let (w, h) = (800u32, 600u32);
+    let hash = format!("round={round}&w={w}&h={h}");
+
+    let body = browser.body(&url(&page, &hash));
+    body.ready("plane replay");
+    assert_eq!(
+        body.time.as_deref(),
+        Some("3"),
+        "the round asked for is shown"
+    );
+    assert!(
+        body.dom
+            .contains(&format!("{round} of {}", rounds.len() - 1))
+    );
+
+    // The view fits the bounding box of every position of the run, 30 pixels of margin.
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in rounds.iter().flatten() {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let s = ((f64::from(w) - 60.0) / (hi[0] - lo[0])).min((f64::from(h) - 60.0) / (hi[1] - lo[1]));
+    let (cx, cy) = ((lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0);
+    let pixel = |p: [f64; 2]| {
+        (
+            (f64::from(w) / 2.0 + (p[0] - cx) * s) as u32,
+            (f64::from(h) / 2.0 - (p[1] - cy) * s) as u32,
+        )
+    };
+    let shot = browser.screenshot(&url(&page, &hash), w + 340, h + 60);
+    for (i, &p) in rounds[round].iter().enumerate().step_by(9) {
+        let (x, y) = pixel(p);
+        let c = shot.rgb(x, y);
+        assert!(is_robot(c), "robot {i} at {p:?}: pixel ({x}, {y}) is {c:?}");
+    }
+    // Where no robot is, the background: the corners, and where robots were at the start
+    // but are not at the last round (the start is drawn faint, not in robot colours).
+    for (x, y) in [(2, 2), (w - 3, 2), (2, h - 3), (w - 3, h - 3)] {
+        assert_eq!(shot.rgb(x, y), [255, 255, 255], "corner ({x}, {y})");
+    }
+    let last = rounds.len() - 1;
+    let shot_last = browser.screenshot(
+        &url(&page, &format!("round={last}&w={w}&h={h}")),
+        w + 340,
+        h + 60,
+    );
+    let away = rounds[0]
+        .iter()
+        .filter(|&&p| {
+            rounds[last]
+                .iter()
+                .all(|q| (q[0] - p[0]).hypot(q[1] - p[1]) * s > 12.0)
+        })
+        .take(5)
+        .collect::<Vec<_>>();
+    assert!(!away.is_empty());
+    for &&p in &away {
+        let (x, y) = pixel(p);
+        assert!(!is_robot(shot_last.rgb(x, y)), "start {p:?} is drawn faint");
+    }
+
+    // A selected robot shows its Look: as many visible points as `monoculus look` finds.
+    let at = tmp.path().join("at.csv");
+    let mut text = String::from("x,y\n");
+    for p in &rounds[round] {
+        text.push_str(&format!("{},{}\n", p[0], p[1]));
+    }
+    std::fs::write(&at, text).unwrap();
+    let seen = ok(&["look", at.to_str().unwrap(), "--robot", "4"])
+        .lines()
+        .count()
+        - 1;
+    let body = browser.body(&url(&page, &format!("{hash}&robot=4")));
+    body.ready("selected robot");
+    assert!(
+        body.dom.contains(&format!("sees {seen} points")),
+        "robot 4 sees {seen} points: {}",
+        &body.dom[body.dom.find("id=\"robot\"").unwrap()..][..400]
+    );
+}
+
+/// A value of the page's embedded data: the JSON array after `"key":[`.
+fn data_array(html: &str, key: &str) -> Vec<u64> {
+    let start = html.find(&format!("\"{key}\":[")).expect(key) + key.len() + 4;
+    let end = start + html[start..].find(']').unwrap();
+    html[start..end]
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect()
+}
+
+#[test]
+#[ignore = "needs headless Chromium: scripts/browser-ci.sh"]
+fn async_and_three_d_replays_open_at_the_time_asked_for() {
+    let browser = Browser::new();
+    let tmp = tempfile::tempdir().unwrap();
+    let (w, h) = (640u32, 480u32);
+
+    // ASYNC: frame 120 shows its tick, with robots drawn.
+    let page = tmp.path().join("async.html");
+    ok(&[
+        "replay",
+        &configs("replay/async.toml"),
+        "--out",
+        page.to_str().unwrap(),
+    ]);
+    let html = std::fs::read_to_string(&page).unwrap();
+    let steps = data_array(&html, "step");
+    let ticks = data_array(&html, "time");
+    let frame = 120;
+    let body = browser.body(&url(&page, &format!("frame={frame}&w={w}&h={h}&robot=5")));
+    body.ready("ASYNC replay");
+    assert_eq!(body.frame.as_deref(), Some("120"));
+    let tick = ticks[steps[frame] as usize];
+    assert_eq!(body.time, Some(tick.to_string()));
+    assert!(
+        body.dom.contains(&format!("{tick} (epoch ")),
+        "the tick and its epoch"
+    );
+    // #tick=T opens the frame of tick T.
+    let body = browser.body(&url(&page, &format!("tick={tick}&w={w}&h={h}")));
+    body.ready("ASYNC replay by tick");
+    assert_eq!(body.time, Some(tick.to_string()));
+    let shot = browser.screenshot(
+        &url(&page, &format!("frame={frame}&w={w}&h={h}")),
+        w + 340,
+        h + 60,
+    );
+    assert!(shot.robot_pixels(w, h) > 40 * 20, "the 40 robots are drawn");
+
+    // Space: a rotated projection at round 5; another rotation draws another picture.
+    let page = tmp.path().join("three_d.html");
+    ok(&[
+        "replay",
+        &configs("replay/three_d.toml"),
+        "--out",
+        page.to_str().unwrap(),
+    ]);
+    let body = browser.body(&url(
+        &page,
+        &format!("round=5&w={w}&h={h}&yaw=1.2&pitch=0.3"),
+    ));
+    body.ready("3D replay");
+    assert_eq!(body.time.as_deref(), Some("5"));
+    assert!(body.dom.contains("hull volume"));
+    let a = browser.screenshot(
+        &url(&page, &format!("round=5&w={w}&h={h}&yaw=1.2&pitch=0.3")),
+        w + 340,
+        h + 60,
+    );
+    let b = browser.screenshot(
+        &url(&page, &format!("round=5&w={w}&h={h}&yaw=2.4&pitch=-0.5")),
+        w + 340,
+        h + 60,
+    );
+    assert!(a.robot_pixels(w, h) > 60 * 10, "the 60 robots are drawn");
+    let differ = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| a.rgb(x, y) != b.rgb(x, y))
+        .count();
+    assert!(
+        differ > 500,
+        "rotating moves the robots ({differ} pixels differ)"
+    );
+}
