@@ -358,13 +358,13 @@ fn async_and_three_d_replays_open_at_the_time_asked_for() {
         page.to_str().unwrap(),
     ]);
     let html = std::fs::read_to_string(&page).unwrap();
-    let steps = data_array(&html, "step");
+    let rows = data_array(&html, "row");
     let ticks = data_array(&html, "time");
     let frame = 120;
     let body = browser.body(&url(&page, &format!("frame={frame}&w={w}&h={h}&robot=5")));
     body.ready("ASYNC replay");
     assert_eq!(body.frame.as_deref(), Some("120"));
-    let tick = ticks[steps[frame] as usize];
+    let tick = ticks[rows[frame] as usize];
     assert_eq!(body.time, Some(tick.to_string()));
     assert!(
         body.dom.contains(&format!("{tick} (epoch ")),

@@ -31,6 +31,9 @@ pub struct Limits {
     pub max_bytes: usize,
     /// Looks are recorded only for runs of at most this many robots.
     pub max_look_robots: usize,
+    /// ASYNC: rows of metrics at most beyond the ticks that end an epoch or show a
+    /// frame (the other ticks' rows are thinned like frames beyond it).
+    pub max_metric_rows: usize,
 }
 
 impl Default for Limits {
@@ -39,6 +42,7 @@ impl Default for Limits {
             max_drawn: 20_000,
             max_bytes: 30 << 20,
             max_look_robots: 2_000,
+            max_metric_rows: 200_000,
         }
     }
 }
@@ -71,8 +75,10 @@ impl From<Activity> for State {
 /// One kept frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
-    /// The step it shows (index into [`Metrics`]).
+    /// The step it shows (0: the start).
     pub step: usize,
+    /// Its row of [`Metrics`].
+    pub row: usize,
     /// Drawn robots' coordinates, `dim` per robot.
     pub positions: Vec<f32>,
     /// Drawn robots' [`State`]s.
@@ -84,9 +90,15 @@ pub struct Frame {
     pub hull: Vec<f32>,
 }
 
-/// The metrics of every step, over all robots.
+/// The metrics of every step (round, or ASYNC event tick), over all robots; a row per
+/// step, unless an ASYNC run has more than [`Limits::max_metric_rows`] ticks: then every
+/// tick that ends an epoch or shows a frame keeps its row, and every `stride`-th other.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Metrics {
+    /// The step of each row.
+    pub step: Vec<usize>,
+    /// ASYNC: rows kept of other ticks are those whose step is a multiple of it.
+    pub stride: usize,
     /// Round (ASYNC: tick).
     pub time: Vec<u64>,
     /// ASYNC: epochs completed; empty otherwise.
@@ -98,6 +110,33 @@ pub struct Metrics {
     /// Robots moving from this configuration (round schedulers: robots that move in the
     /// next round; ASYNC: robots in a Move phase with a displacement).
     pub moving: Vec<u64>,
+}
+
+impl Metrics {
+    fn pop(&mut self) {
+        self.step.pop();
+        self.time.pop();
+        self.epoch.pop();
+        self.hull.pop();
+        self.diameter.pop();
+        self.moving.pop();
+    }
+
+    fn retain(&mut self, keep: &[bool]) {
+        fn by<T>(v: &mut Vec<T>, keep: &[bool]) {
+            if v.is_empty() {
+                return;
+            }
+            let mut k = keep.iter();
+            v.retain(|_| *k.next().unwrap());
+        }
+        by(&mut self.step, keep);
+        by(&mut self.time, keep);
+        by(&mut self.epoch, keep);
+        by(&mut self.hull, keep);
+        by(&mut self.diameter, keep);
+        by(&mut self.moving, keep);
+    }
 }
 
 /// What one robot saw at one Look.
@@ -241,6 +280,16 @@ struct Recorder<P> {
     budget: usize,
     /// [`Replay::bytes`], kept as frames and Looks are added.
     bytes: usize,
+    /// Steps seen.
+    steps: usize,
+    /// Per metrics row: whether the step ended an epoch (round schedulers: always).
+    pinned: Vec<bool>,
+    /// Epochs completed at the last step.
+    epochs: u64,
+    /// [`Limits::max_metric_rows`].
+    max_rows: usize,
+    /// The rows at which the metrics are thinned next.
+    row_cap: usize,
 }
 
 impl<P: IndexPoint> Recorder<P> {
@@ -256,6 +305,7 @@ impl<P: IndexPoint> Recorder<P> {
         }
         let frame = Frame {
             step,
+            row: self.replay.metrics.step.len() - 1,
             positions,
             states: vec![State::Idle as u8; self.drawn.len()],
             bits: Vec::new(),
@@ -266,28 +316,77 @@ impl<P: IndexPoint> Recorder<P> {
         self.replay.frames.len() - 1
     }
 
-    fn metrics(&mut self, sim: &Simulation<P>, now: &[P]) {
+    /// Adds the row of `step`, first dropping the previous step's row if neither an
+    /// epoch's end, a frame, nor the stride keeps it (ASYNC).
+    fn metrics(&mut self, step: usize, sim: &Simulation<P>, now: &[P]) {
+        let stride = self.replay.metrics.stride;
+        let framed = |row: usize, frames: &[Frame]| frames.last().is_some_and(|f| f.row == row);
+        if let Some(row) = self.replay.metrics.step.len().checked_sub(1)
+            && !self.pinned[row]
+            && !self.replay.metrics.step[row].is_multiple_of(stride)
+            && !framed(row, &self.replay.frames)
+        {
+            self.replay.metrics.pop();
+            self.pinned.pop();
+        }
         let shape = Shape::of(now);
         let m = &mut self.replay.metrics;
+        m.step.push(step);
         m.time.push(sim.time());
-        if let Some((_, epochs)) = sim.async_progress() {
-            m.epoch.push(epochs);
-        }
+        let pinned = match sim.async_progress() {
+            Some((_, epochs)) => {
+                m.epoch.push(epochs);
+                let ended = epochs != self.epochs;
+                self.epochs = epochs;
+                ended || step == 0
+            }
+            None => true,
+        };
+        self.pinned.push(pinned);
         m.hull.push(shape.hull);
         m.diameter.push(shape.diameter);
         m.moving.push(0);
+    }
+
+    /// ASYNC: doubles the metrics stride, keeping the pinned rows, the frames' rows and
+    /// the last; the next thinning comes when half the budget is added again (the
+    /// rows that must stay can outnumber it).
+    fn thin_metrics(&mut self) {
+        let m = &mut self.replay.metrics;
+        m.stride = (m.stride * 2).min(1 << 32);
+        let last = m.step.len() - 1;
+        let mut framed = vec![false; m.step.len()];
+        for f in &self.replay.frames {
+            framed[f.row] = true;
+        }
+        let keep: Vec<bool> = (0..m.step.len())
+            .map(|r| self.pinned[r] || framed[r] || r == last || m.step[r].is_multiple_of(m.stride))
+            .collect();
+        let mut renumber = vec![0; keep.len()];
+        let mut kept = 0;
+        for (r, &k) in keep.iter().enumerate() {
+            renumber[r] = kept;
+            kept += usize::from(k);
+        }
+        m.retain(&keep);
+        let mut k = keep.iter();
+        self.pinned.retain(|_| *k.next().unwrap());
+        for f in &mut self.replay.frames {
+            f.row = renumber[f.row];
+        }
+        self.row_cap = self.max_rows.max(kept + self.max_rows / 2);
     }
 
     /// The states, bits, moving count and Looks of the step at `frame` (positions
     /// `seen_at`) from the views after the step that decided them.
     fn decisions(
         &mut self,
-        step: usize,
+        row: usize,
         frame: Option<usize>,
         seen_at: &[P],
         views: &[monoculus_engine::RobotView<P>],
     ) {
-        self.replay.metrics.moving[step] = views
+        self.replay.metrics.moving[row] = views
             .iter()
             .filter(|v| v.activity == Activity::Moving)
             .count() as u64;
@@ -341,18 +440,24 @@ impl<P: IndexPoint> Recorder<P> {
     }
 
     fn after_step(&mut self, sim: &Simulation<P>) {
-        let step = self.replay.metrics.time.len();
+        let step = self.steps;
+        self.steps += 1;
         let now = sim.positions_now();
-        self.metrics(sim, &now);
+        self.metrics(step, sim, &now);
         let frame = self.frame(step, &now);
         let views = sim.robot_views();
+        let row = self.replay.metrics.step.len() - 1;
         if self.replay.ticks {
-            self.decisions(step, frame, &now, &views);
+            self.decisions(row, frame, &now, &views);
+            if row >= self.row_cap {
+                self.thin_metrics();
+            }
         } else {
+            // Every round keeps its row: the previous round's is the one before.
             if let Some((before, before_frame)) = self.previous.take()
                 && step > 0
             {
-                self.decisions(step - 1, before_frame, &before, &views);
+                self.decisions(row - 1, before_frame, &before, &views);
             }
             self.previous = Some((now, frame));
         }
@@ -367,7 +472,7 @@ impl<P: IndexPoint> Recorder<P> {
 
     /// Gives the last step a frame if the stride skipped it.
     fn finish(&mut self, sim: &Simulation<P>) {
-        let last = self.replay.metrics.time.len() - 1;
+        let last = self.steps - 1;
         if self.replay.frames.last().is_none_or(|f| f.step != last) {
             self.push_frame(last, &sim.positions_now());
         }
@@ -431,7 +536,10 @@ fn record_in<P: IndexPoint>(
         termination: kind.has_memory(),
         start,
         frames: Vec::new(),
-        metrics: Metrics::default(),
+        metrics: Metrics {
+            stride: 1,
+            ..Metrics::default()
+        },
         looks: Vec::new(),
         looks_note: (!record_looks).then(|| {
             format!(
@@ -449,6 +557,11 @@ fn record_in<P: IndexPoint>(
         previous: None,
         budget: limits.max_bytes,
         bytes: 0,
+        steps: 0,
+        pinned: Vec::new(),
+        epochs: 0,
+        max_rows: limits.max_metric_rows.max(1),
+        row_cap: limits.max_metric_rows.max(1),
     };
     let mut sim = Simulation::<P>::new(config, initial)?;
     let outcome = sim.run_observed(|sim| rec.after_step(sim));
@@ -457,9 +570,22 @@ fn record_in<P: IndexPoint>(
     replay.outcome = outcome_line(&outcome, ticks);
     if replay.stride > 1 {
         replay.notes.push(format!(
-            "every {} {} kept as a frame (and the last); metrics for every one",
+            "every {} {} kept as a frame (and the last); metrics for every {}",
             ordinal(replay.stride),
-            if ticks { "tick" } else { "round" }
+            if ticks { "event tick" } else { "round" },
+            if replay.metrics.stride > 1 {
+                "epoch"
+            } else if ticks {
+                "event tick"
+            } else {
+                "round"
+            }
+        ));
+    }
+    if replay.metrics.stride > 1 {
+        replay.notes.push(format!(
+            "metrics kept for every tick that ends an epoch or shows a frame, and every {} other event tick",
+            ordinal(replay.metrics.stride)
         ));
     }
     Ok(replay)
@@ -530,7 +656,10 @@ fn from_trace_in<P: IndexPoint>(trace: &TracePositions, title: String, limits: L
         termination: false,
         start,
         frames: Vec::new(),
-        metrics: Metrics::default(),
+        metrics: Metrics {
+            stride: 1,
+            ..Metrics::default()
+        },
         looks: Vec::new(),
         looks_note: Some("a trace holds positions only: no Looks to show".to_string()),
         notes: Vec::new(),
@@ -541,6 +670,7 @@ fn from_trace_in<P: IndexPoint>(trace: &TracePositions, title: String, limits: L
         let moves = |i: usize| next.is_some_and(|next| next[i] != now[i]);
         let shape = Shape::of(now);
         let m = &mut replay.metrics;
+        m.step.push(k);
         m.time.push(k as u64);
         m.hull.push(shape.hull);
         m.diameter.push(shape.diameter);
@@ -552,6 +682,7 @@ fn from_trace_in<P: IndexPoint>(trace: &TracePositions, title: String, limits: L
             }
             let frame = Frame {
                 step: k,
+                row: k,
                 positions,
                 states: drawn
                     .iter()
@@ -776,7 +907,7 @@ mod tests {
         let limits = Limits {
             max_drawn: 25,
             max_bytes: 2_000,
-            max_look_robots: 2_000,
+            ..Limits::default()
         };
         let thin = record(&cell, 2, "t".into(), limits).unwrap();
         assert_eq!(
@@ -836,6 +967,66 @@ mod tests {
             assert_eq!(same.seen, look.seen);
             assert_eq!(same.destination, look.destination);
         }
+    }
+
+    #[test]
+    fn long_async_runs_keep_the_metrics_of_every_epoch_and_frame() {
+        let cell = cell(&config("converge_locality", ASYNC, 25, 2));
+        let whole = record(&cell, 1, "t".into(), Limits::default()).unwrap();
+        assert_eq!(whole.metrics.stride, 1);
+        assert_eq!(
+            whole.metrics.step,
+            (0..whole.metrics.time.len()).collect::<Vec<_>>()
+        );
+        let limits = Limits {
+            max_metric_rows: 40,
+            max_bytes: 20_000,
+            ..Limits::default()
+        };
+        let thin = record(&cell, 1, "t".into(), limits).unwrap();
+        let m = &thin.metrics;
+        assert!(m.stride > 1 && thin.stride > 1);
+        assert!(m.step.len() < whole.metrics.step.len());
+        // Every kept row is the whole run's row of its step.
+        for (r, &step) in m.step.iter().enumerate() {
+            let w = &whole.metrics;
+            assert_eq!(
+                (
+                    m.time[r],
+                    m.epoch[r],
+                    m.hull[r].to_bits(),
+                    m.diameter[r].to_bits(),
+                    m.moving[r]
+                ),
+                (
+                    w.time[step],
+                    w.epoch[step],
+                    w.hull[step].to_bits(),
+                    w.diameter[step].to_bits(),
+                    w.moving[step]
+                ),
+                "row {r} (step {step})"
+            );
+        }
+        // Each epoch's end keeps its row, and each frame its own.
+        for s in 1..whole.metrics.epoch.len() {
+            if whole.metrics.epoch[s] != whole.metrics.epoch[s - 1] {
+                assert!(
+                    m.step.contains(&s),
+                    "the end of epoch {}",
+                    whole.metrics.epoch[s]
+                );
+            }
+        }
+        for f in &thin.frames {
+            assert_eq!(m.step[f.row], f.step);
+        }
+        assert_eq!(m.step.last(), whole.metrics.step.last());
+        assert!(
+            thin.notes
+                .iter()
+                .any(|n| n.contains("metrics kept for every tick that ends an epoch"))
+        );
     }
 
     #[test]

@@ -105,8 +105,9 @@ pub fn replay_json(r: &Replay) -> String {
         look_off.push(look_off.last().copied().unwrap_or(0) + l.seen.len() as u32);
     }
     let frames = format!(
-        "{{\"step\":{},\"pos\":\"{}\",\"state\":\"{}\",\"bits\":\"{}\",\"hull_off\":{},\"hull\":\"{}\"}}",
+        "{{\"step\":{},\"row\":{},\"pos\":\"{}\",\"state\":\"{}\",\"bits\":\"{}\",\"hull_off\":{},\"hull\":\"{}\"}}",
         list(&r.frames, |f| f.step.to_string()),
+        list(&r.frames, |f| f.row.to_string()),
         f32s(r.frames.iter().flat_map(|f| f.positions.iter().copied())),
         base64(
             &r.frames
@@ -274,8 +275,8 @@ pub fn write_replay_gif(replay: &Replay, path: &Path, size: (u32, u32)) -> Resul
                 let c = colors[usize::from(f.states[j]).min(3)];
                 root.draw(&Circle::new(px(p[0], p[1]), radius, c.filled()))?;
             }
-            let t = replay.metrics.time[f.step];
-            let d = replay.metrics.diameter[f.step];
+            let t = replay.metrics.time[f.row];
+            let d = replay.metrics.diameter[f.row];
             root.draw(&Text::new(
                 format!(
                     "{label} {t}   diameter {d:.3}   moving {}",
