@@ -119,6 +119,13 @@ fn out_of_range_values() {
         one_line(&e).starts_with("error: bad.toml:4: swarm.n: missing"),
         "{e}"
     );
+    for range in ["0.0", "-3.0", "nan"] {
+        let (e, _) = config_error(&format!("{GOOD}\n[vision]\nrange = {range}\n"));
+        assert!(
+            one_line(&e).starts_with("error: bad.toml:15: vision.range: must be positive"),
+            "{range}: {e}"
+        );
+    }
     let (e, _) = config_error(&GOOD.replace("seeds = 2", "seeds = 0"));
     assert!(one_line(&e).starts_with("error: bad.toml:2: seeds:"), "{e}");
     let (e, _) = config_error(&GOOD.replace("init = \"square\"", "init = \"square\"\ndim = 7"));

@@ -39,3 +39,25 @@ fn backends_agree_with_the_listing_reference() {
         assert_eq!(a.positions(), b.positions(), "{name}");
     }
 }
+
+/// With a limited visibility range (SPEC 9.2) the indexed and exact backends still give
+/// identical runs (the OLA shortcuts from the bounding box are off: the robots within
+/// the range decide).
+#[test]
+fn backends_agree_with_a_limited_range() {
+    for kind in AlgorithmKind::ALL {
+        for (name, pts) in common::zoo(4) {
+            for range in [2.5, 5.0] {
+                let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
+                cfg.stop.max_rounds = 40;
+                cfg.vision.range = range;
+                let mut a = Simulation::new(cfg, pts.clone()).unwrap();
+                cfg.backend = SightBackend::Exact;
+                let mut b = Simulation::new(cfg, pts.clone()).unwrap();
+                let (oa, ob) = (a.run(), b.run());
+                assert_eq!(oa, ob, "{} on {name}, V = {range}", kind.name());
+                assert_eq!(a.positions(), b.positions());
+            }
+        }
+    }
+}

@@ -170,3 +170,78 @@ fn hand_built_occlusion() {
     assert!(s3.sees(0, 2));
     assert!(!s3.sees(0, 3));
 }
+
+/// Limited visibility (SPEC 9.2): the definition sees exactly the unlimited view within
+/// the range (a blocker is nearer than what it hides), and the sweep and the index agree
+/// with it, on every configuration of the zoo and for ranges that cut through it.
+#[test]
+fn a_limited_range_sees_the_unlimited_view_within_it() {
+    for seed in 0..2 {
+        for (name, pts) in common::zoo(seed) {
+            for range in [0.7, 2.1, 3.5, 6.0] {
+                let v = VisionParams {
+                    range,
+                    ..VisionParams::default()
+                };
+                let unlimited = ExactSight::new(pts.clone(), VisionParams::default());
+                let exact = ExactSight::new(pts.clone(), v);
+                let indexed = monoculus_engine::IndexedSight::new(pts.clone(), v);
+                for i in 0..pts.len() {
+                    let brute = visible_points_brute(&pts, i, &v);
+                    let within: Vec<usize> = unlimited
+                        .visible_points(i)
+                        .into_iter()
+                        .filter(|&j| pts[j].distance(pts[i]) <= range)
+                        .collect();
+                    // Co-located robots straddling the range are one point: compare seen
+                    // robots, then the points.
+                    for j in 0..pts.len() {
+                        let expect = unlimited.sees(i, j) && pts[j].distance(pts[i]) <= range;
+                        assert_eq!(exact.sees(i, j), expect, "{name} V={range}: {i} -> {j}");
+                        assert_eq!(
+                            indexed.sees(i, j),
+                            expect,
+                            "{name} V={range}: {i} -> {j} index"
+                        );
+                        assert_eq!(
+                            indexed.is_visible_point(i, j),
+                            brute.contains(&j),
+                            "{name} V={range}: {i} -> {j} point"
+                        );
+                    }
+                    assert_eq!(brute, within, "{name} V={range} robot {i}");
+                    assert_eq!(visible_points_sweep_2d(&pts, i, &v), brute, "{name} sweep");
+                    assert_eq!(indexed.visible_points(i), brute, "{name} index");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_limited_range_in_space_matches_the_definition() {
+    use glam::DVec3;
+    let mut s = Stream::new(3, 98, 0, 0);
+    let random: Vec<DVec3> = (0..80)
+        .map(|_| DVec3::new(s.uniform(), s.uniform(), s.uniform()) * 6.0)
+        .collect();
+    let lattice: Vec<DVec3> = (0..64)
+        .map(|k| DVec3::new((k % 4) as f64, ((k / 4) % 4) as f64, (k / 16) as f64))
+        .collect();
+    for (name, pts) in [("random", random), ("lattice", lattice)] {
+        for range in [1.0, 1.5, 3.0] {
+            let v = VisionParams {
+                range,
+                ..VisionParams::default()
+            };
+            let indexed = monoculus_engine::IndexedSight::new(pts.clone(), v);
+            for i in 0..pts.len() {
+                assert_eq!(
+                    indexed.visible_points(i),
+                    visible_points_brute(&pts, i, &v),
+                    "{name} V={range} robot {i}"
+                );
+            }
+        }
+    }
+}

@@ -173,7 +173,8 @@ pub fn certainly_stays<P: Point, S: Sight<P> + ?Sized>(
     sight: &S,
     robot: usize,
 ) -> bool {
-    if params.kind.model() != Model::Ola || params.errors.any() {
+    // With a limited range the bounding box says nothing about what a robot sees.
+    if params.kind.model() != Model::Ola || params.errors.any() || sight.vision().limited() {
         return false;
     }
     let eps = sight.vision().eps_axis;
@@ -264,6 +265,49 @@ mod tests {
             let parsed: Named = toml_like(kind.name());
             assert_eq!(parsed.name, kind);
         }
+    }
+
+    /// With a limited range a robot beyond it neither occupies a side nor lets the
+    /// bounding box vouch that a robot stays.
+    #[test]
+    fn a_limited_range_hides_the_sides_beyond_it() {
+        use crate::algorithms::{AlgorithmParams, certainly_stays};
+        use crate::geometry::AxisFrame;
+        use crate::observe::{OlaObservation, Side};
+        use crate::vision::{ExactSight, VisionParams};
+        use glam::DVec2;
+        // Robot 1 between robot 0 (1 to its left) and robot 2 (10 to its right, and 10 up
+        // and down from robots 3 and 4).
+        let pts = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(11.0, 0.0),
+            DVec2::new(1.0, 10.0),
+            DVec2::new(1.0, -10.0),
+        ];
+        let params = AlgorithmParams::new(AlgorithmKind::ConvergeQuadrant, 1.0, 2.0);
+        let unlimited = ExactSight::new(pts.clone(), VisionParams::default());
+        let limited = ExactSight::new(
+            pts,
+            VisionParams {
+                range: 2.0,
+                ..VisionParams::default()
+            },
+        );
+        let occupied = |sight: &ExactSight<DVec2>| {
+            let obs = OlaObservation::new(sight, 1, AxisFrame::identity(2));
+            [
+                (0, Side::Low),
+                (0, Side::High),
+                (1, Side::Low),
+                (1, Side::High),
+            ]
+            .map(|(a, s)| obs.side_occupied(a, s))
+        };
+        assert_eq!(occupied(&unlimited), [true; 4]);
+        assert_eq!(occupied(&limited), [true, false, false, false]);
+        assert!(certainly_stays(&params, &unlimited, 1));
+        assert!(!certainly_stays(&params, &limited, 1));
     }
 
     /// Deserialises `{ name = "<name>" }` through serde's value deserializer.

@@ -4,7 +4,7 @@ use super::{count_visible_up_to, direction, sample_visible_point, sole_visible};
 use crate::errors::Perception;
 use crate::geometry::{AxisFrame, Point};
 use crate::rng::Stream;
-use crate::vision::Sight;
+use crate::vision::{Sight, distinct};
 
 /// One of the two sides of an agreed axis, in the robot's local orientation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -103,18 +103,30 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
     /// axis `axis`, on `side`, by more than `eps_axis`. A robot in that open half-space
     /// has a visible robot there too (its nearest blocker lies on the same side), so
     /// this is what the robot sees; it is read off the swarm's bounding box in O(1).
+    /// With a limited visibility range V only robots within V count (a blocker of one
+    /// is within V too), found among the robots within V.
     ///
     /// With tilted axes the half-space is no longer axis-aligned and the robots are
     /// scanned (O(n)).
     pub fn side_occupied(&self, axis: usize, side: Side) -> bool {
         let eps = self.sight.vision().eps_axis;
-        if let Some(t) = &self.tilt {
-            let normal = P::to_global(
-                t,
-                P::unit_axis(self.frame.global_axis(axis)) * (self.frame.sign(axis) * side.sign()),
-            );
-            let pos = self.sight.positions();
-            let p = pos[self.me];
+        let global =
+            P::unit_axis(self.frame.global_axis(axis)) * (self.frame.sign(axis) * side.sign());
+        let normal = match &self.tilt {
+            Some(t) => P::to_global(t, global),
+            None => global,
+        };
+        let pos = self.sight.positions();
+        let p = pos[self.me];
+        let vision = *self.sight.vision();
+        if vision.limited() {
+            let mut occupied = false;
+            self.sight.for_each_within(self.me, vision.range, &mut |k| {
+                occupied |= distinct(p, pos[k], &vision) && (pos[k] - p).dot(normal) > eps;
+            });
+            return occupied;
+        }
+        if self.tilt.is_some() {
             return pos.iter().any(|&q| (q - p).dot(normal) > eps);
         }
         let a = self.frame.global_axis(axis);

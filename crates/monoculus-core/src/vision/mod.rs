@@ -11,5 +11,5 @@ pub use oracle::{
     visible_points_sweep_2d,
 };
 pub use params::VisionParams;
-pub use predicate::{blocks, distinct};
+pub use predicate::{blocks, distinct, in_range};
 pub use sight::Sight;

@@ -3,13 +3,13 @@
 
 use glam::DVec2;
 
-use super::{Sight, VisionParams, blocks, distinct};
+use super::{Sight, VisionParams, blocks, distinct, in_range};
 use crate::geometry::Point;
 
 /// Whether `j` is seen from `i`, straight from the definition: O(n).
 pub fn sees_brute<P: Point>(positions: &[P], i: usize, j: usize, v: &VisionParams) -> bool {
     let (p, q) = (positions[i], positions[j]);
-    if i == j || !distinct(p, q, v) {
+    if i == j || !distinct(p, q, v) || !in_range(p, q, v) {
         return false;
     }
     !positions
@@ -72,7 +72,9 @@ pub fn seen_sweep_2d(positions: &[DVec2], i: usize, v: &VisionParams) -> Vec<usi
     let mut others: Vec<(f64, f64, usize)> = positions
         .iter()
         .enumerate()
-        .filter(|&(j, &q)| j != i && distinct(p, q, v))
+        // Robots beyond the range are not seen, and block nothing within it (a blocker
+        // is nearer than what it hides).
+        .filter(|&(j, &q)| j != i && distinct(p, q, v) && in_range(p, q, v))
         .map(|(j, &q)| {
             let d = q - p;
             (d.y.atan2(d.x), d.length(), j)

@@ -12,6 +12,9 @@ pub struct VisionParams {
     /// OLA: a robot is on a side of an agreed axis only if it lies more than this beyond
     /// the hyperplane through the observer. Default `1e-9 * b`.
     pub eps_axis: f64,
+    /// Visibility range V (SPEC 9.2): a robot farther than this is not seen. Default
+    /// infinite (unlimited).
+    pub range: f64,
 }
 
 impl VisionParams {
@@ -21,7 +24,15 @@ impl VisionParams {
             eps_pos: 1e-9 * step,
             eps_ang: 1e-9,
             eps_axis: 1e-9 * step,
+            range: f64::INFINITY,
         }
+    }
+}
+
+impl VisionParams {
+    /// Whether the range is limited.
+    pub fn limited(&self) -> bool {
+        self.range.is_finite()
     }
 }
 

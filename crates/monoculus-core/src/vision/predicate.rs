@@ -22,6 +22,14 @@ pub fn blocks<P: Point>(p: P, r: P, q: P, v: &VisionParams) -> bool {
     lr < lq - v.eps_pos && angle_between(dr, dq) <= v.eps_ang
 }
 
+/// Whether `q` lies within the visibility range of the observer at `p` (SPEC 9.2:
+/// `|q - p| <= V`; always, when the range is unlimited). Blockers need no test: a
+/// blocker of `q` is nearer than `q`.
+#[inline]
+pub fn in_range<P: Point>(p: P, q: P, v: &VisionParams) -> bool {
+    !v.limited() || (q - p).length() <= v.range
+}
+
 /// Whether `q` is far enough from the observer at `p` to be seen at all.
 #[inline]
 pub fn distinct<P: Point>(p: P, q: P, v: &VisionParams) -> bool {

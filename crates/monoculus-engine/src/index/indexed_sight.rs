@@ -5,7 +5,7 @@
 use std::sync::OnceLock;
 
 use monoculus_core::metrics::bounds;
-use monoculus_core::vision::{Sight, VisionParams, distinct};
+use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
 
 use super::{IndexPoint, SpatialIndex};
 
@@ -94,7 +94,7 @@ impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
 
     fn sees(&self, i: usize, j: usize) -> bool {
         let (p, q) = (self.positions[i], self.positions[j]);
-        if i == j || !distinct(p, q, &self.vision) {
+        if i == j || !distinct(p, q, &self.vision) || !in_range(p, q, &self.vision) {
             return false;
         }
         self.index.clear(&self.positions, &self.vision, i, j)

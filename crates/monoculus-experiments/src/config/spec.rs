@@ -210,6 +210,9 @@ pub struct VisionSpec {
     /// `index` (band grid in the plane, R-tree in space; default) or `exact` (brute force).
     #[serde(default)]
     pub backend: SightBackend,
+    /// Visibility range V (SPEC 9.2; `inf`: unlimited, the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<f64>,
 }
 
 impl Default for VisionSpec {
@@ -219,6 +222,7 @@ impl Default for VisionSpec {
             eps_ang: default_eps_ang(),
             eps_axis: None,
             backend: SightBackend::Index,
+            range: None,
         }
     }
 }

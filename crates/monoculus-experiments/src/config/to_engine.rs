@@ -48,6 +48,7 @@ impl Cell {
                 eps_pos: v.eps_pos.unwrap_or(defaults.eps_pos),
                 eps_ang: v.eps_ang,
                 eps_axis: v.eps_axis.unwrap_or(defaults.eps_axis),
+                range: v.range.unwrap_or(f64::INFINITY),
             },
             backend: v.backend,
             scheduler: match sc.kind {

@@ -245,6 +245,14 @@ pub(super) fn validate(
             return err(key, format!("must be non-negative, got {x}"));
         }
     }
+    if let Some(range) = v.range
+        && (range.is_nan() || range <= 0.0)
+    {
+        return err(
+            "vision.range",
+            format!("must be positive (inf: unlimited), got {range}"),
+        );
+    }
     let sc = &spec.scheduler;
     if !(sc.p > 0.0 && sc.p <= 1.0) {
         return err("scheduler.p", format!("must be in (0, 1], got {}", sc.p));
