@@ -234,9 +234,60 @@ fn async_stretch(c: &mut Criterion) {
     g.finish();
 }
 
+/// The plane's two indexes on the same questions: the band grid (the default) against
+/// an rstar R-tree (`vision.backend = "rtree"`): 256 lines of sight, and one ConvergeLocality
+/// round (index build included).
+fn plane_backends(c: &mut Criterion) {
+    use monoculus_engine::{SightBackend, SpaceIndex};
+    let mut g = c.benchmark_group("plane_backends");
+    g.sample_size(10);
+    for n in [10_000usize, 100_000] {
+        for (shape, pts) in [("uniform", unit_density(n, 1)), ("lattice", lattice(n))] {
+            let pairs: Vec<(usize, usize)> = (0..256)
+                .map(|k| ((k * 7919) % n, (k * 104_729 + 13) % n))
+                .collect();
+            let grid = IndexedSight::new(pts.clone(), VisionParams::default());
+            let tree: IndexedSight<_, SpaceIndex<_>> =
+                IndexedSight::with_index(pts.clone(), VisionParams::default());
+            grid.sees(0, 1);
+            tree.sees(0, 1);
+            g.bench_with_input(
+                BenchmarkId::new(format!("sees/grid/{shape}"), n),
+                &pairs,
+                |b, pairs| b.iter(|| pairs.iter().filter(|&&(i, j)| grid.sees(i, j)).count()),
+            );
+            g.bench_with_input(
+                BenchmarkId::new(format!("sees/rtree/{shape}"), n),
+                &pairs,
+                |b, pairs| b.iter(|| pairs.iter().filter(|&&(i, j)| tree.sees(i, j)).count()),
+            );
+        }
+        for (label, backend) in [
+            ("grid", SightBackend::Index),
+            ("rtree", SightBackend::Rtree),
+        ] {
+            let mut cfg = paper_config(AlgorithmKind::ConvergeLocality, 1);
+            cfg.backend = backend;
+            let pts = unit_density(n, 1);
+            g.bench_function(BenchmarkId::new(format!("round/{label}"), n), |b| {
+                b.iter_batched(
+                    || Simulation::new(cfg, pts.clone()).unwrap(),
+                    |mut sim| {
+                        sim.step();
+                        black_box(sim.positions().len())
+                    },
+                    criterion::BatchSize::LargeInput,
+                )
+            });
+        }
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     queries,
+    plane_backends,
     index_build,
     hull,
     one_round,

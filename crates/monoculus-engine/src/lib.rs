@@ -41,7 +41,7 @@ pub mod systems;
 
 pub use asynchrony::{AsyncSpec, AsyncStart, TickDist};
 pub use error::{EngineError, MAX_MAGNITUDE, MAX_ROBOTS};
-pub use index::{IndexPoint, IndexedSight, SegmentGrid, Tube};
+pub use index::{IndexPoint, IndexedSight, SegmentGrid, SpaceIndex, SpatialIndex, Tube};
 pub use resources::SightBackend;
 pub use scheduler::{SchedulerSpec, SequentialOrder};
 pub use simulation::{Activity, RobotView, RoundReport, RunOutcome, SimConfig, Simulation};

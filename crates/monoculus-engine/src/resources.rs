@@ -5,9 +5,10 @@ use monoculus_core::algorithms::AlgorithmParams;
 use monoculus_core::errors::MovementErrors;
 use monoculus_core::vision::{ExactSight, VisionParams};
 
+use crate::index::SpaceIndex;
 use crate::{IndexPoint, IndexedSight, SchedulerSpec};
 
-/// How visibility questions are answered (`vision.backend = "index" | "exact"`).
+/// How visibility questions are answered (`vision.backend = "index" | "exact" | "rtree"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SightBackend {
@@ -16,6 +17,9 @@ pub enum SightBackend {
     Index,
     /// Brute force from the definition: slow, for cross-checking.
     Exact,
+    /// An rstar R-tree in every dimension (in space the same as `Index`): the plane's
+    /// alternative to the band grid, for comparison.
+    Rtree,
 }
 
 /// The fixed parameters of a run.
@@ -58,6 +62,8 @@ pub enum SnapshotSight<P: IndexPoint> {
     Index(IndexedSight<P>),
     /// Brute force.
     Exact(ExactSight<P>),
+    /// Through an R-tree.
+    Rtree(IndexedSight<P, SpaceIndex<P>>),
 }
 
 /// The Look snapshot and the position generation it was taken at.

@@ -61,3 +61,38 @@ fn backends_agree_with_a_limited_range() {
         }
     }
 }
+
+/// The R-tree in the plane (`vision.backend = "rtree"`) gives the runs of the band grid
+/// and of the definition, for every algorithm on every configuration of the zoo.
+#[test]
+fn an_rtree_in_the_plane_gives_the_same_runs() {
+    for kind in AlgorithmKind::ALL {
+        for (name, pts) in common::zoo(1) {
+            let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
+            cfg.stop.max_rounds = 60;
+            let mut grid = Simulation::new(cfg, pts.clone()).unwrap();
+            cfg.backend = SightBackend::Rtree;
+            let mut tree = Simulation::new(cfg, pts.clone()).unwrap();
+            let (og, ot) = (grid.run(), tree.run());
+            assert_eq!(og, ot, "{} on {name}", kind.name());
+            assert_eq!(
+                grid.positions(),
+                tree.positions(),
+                "{} on {name}",
+                kind.name()
+            );
+        }
+    }
+    // And under ASYNC, where every Look builds its own sight.
+    let mut cfg = common::config(
+        AlgorithmKind::ConvergeLocality,
+        SchedulerSpec::Async(AsyncSpec::default()),
+        2,
+    );
+    cfg.stop.max_rounds = 30;
+    let pts = common::square(60, 8.0, 2);
+    let a = Simulation::new(cfg, pts.clone()).unwrap().run();
+    cfg.backend = SightBackend::Rtree;
+    let b = Simulation::new(cfg, pts).unwrap().run();
+    assert_eq!(a, b);
+}

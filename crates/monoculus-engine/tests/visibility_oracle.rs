@@ -245,3 +245,44 @@ fn a_limited_range_in_space_matches_the_definition() {
         }
     }
 }
+
+/// The R-tree over the plane answers every question as the definition does.
+#[test]
+fn an_rtree_in_the_plane_matches_the_definition() {
+    use monoculus_engine::SpaceIndex;
+    for seed in 0..2 {
+        for (name, pts) in common::zoo(seed) {
+            let tree: monoculus_engine::IndexedSight<glam::DVec2, SpaceIndex<glam::DVec2>> =
+                monoculus_engine::IndexedSight::with_index(pts.clone(), VisionParams::default());
+            let v = VisionParams::default();
+            let exact = ExactSight::new(pts.clone(), v);
+            for i in 0..pts.len() {
+                let brute = visible_points_brute(&pts, i, &v);
+                assert_eq!(
+                    tree.visible_points(i),
+                    brute,
+                    "{name} seed {seed} robot {i}"
+                );
+                for j in 0..pts.len() {
+                    assert_eq!(
+                        tree.is_visible_point(i, j),
+                        brute.contains(&j),
+                        "{name}: {i} -> {j}"
+                    );
+                }
+                for radius in [0.5, 2.0, 7.0] {
+                    let (mut a, mut b) = (vec![], vec![]);
+                    tree.for_each_beyond(i, radius, &mut |k| a.push(k));
+                    exact.for_each_beyond(i, radius, &mut |k| b.push(k));
+                    a.sort_unstable();
+                    assert_eq!(a, b, "{name}: beyond {radius}");
+                    let (mut a, mut b) = (vec![], vec![]);
+                    tree.for_each_within(i, radius, &mut |k| a.push(k));
+                    exact.for_each_within(i, radius, &mut |k| b.push(k));
+                    a.sort_unstable();
+                    assert_eq!(a, b, "{name}: within {radius}");
+                }
+            }
+        }
+    }
+}

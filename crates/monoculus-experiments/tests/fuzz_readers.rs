@@ -213,7 +213,7 @@ fn mutated_result_files_read_or_fail_in_one_line() {
     monoculus_experiments::run_experiment(&exp, &out, Default::default(), &|_, _| {}).unwrap();
     let runs = std::fs::read_to_string(out.join("runs.csv")).unwrap();
     let provenance = std::fs::read_to_string(out.join("provenance.toml")).unwrap();
-    let stress = "measurement,measurements,n,threads,algorithm,scheduler,timing,init,seed,rounds,setup_s,total_s,round_s_min,round_s_median,round_s_max,activations,activations_per_s,peak_memory_mb,host,job,monoculus_version,git_commit\n0,1,100,1,converge_locality,fsync,,square,1,2,0.1,0.2,0.1,0.1,0.1,200,1000,12,h,,0.1.0,abc\n";
+    let stress = "measurement,measurements,n,threads,algorithm,scheduler,backend,timing,init,seed,rounds,setup_s,total_s,round_s_min,round_s_median,round_s_max,activations,activations_per_s,peak_memory_mb,host,job,monoculus_version,git_commit\n0,1,100,1,converge_locality,fsync,index,,square,1,2,0.1,0.2,0.1,0.1,0.1,200,1000,12,h,,0.1.0,abc\n";
     let file = tmp.path().join("f.csv");
     fuzz("results", 5000, Duration::from_secs(20), |g| {
         let (which, good) = match g.below(3) {

@@ -4,7 +4,9 @@ use std::time::Instant;
 use glam::DVec2;
 use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::init::{InitShape, generate};
-use monoculus_engine::{AsyncSpec, AsyncStart, SchedulerSpec, SimConfig, Simulation, TickDist};
+use monoculus_engine::{
+    AsyncSpec, AsyncStart, SchedulerSpec, SightBackend, SimConfig, Simulation, TickDist,
+};
 use monoculus_experiments::results::{
     Attempt, GIT_COMMIT, StressLog, StressRow, VERSION, host_name, quantile, stress_shard_path,
 };
@@ -26,6 +28,34 @@ impl Shape {
         match self {
             Shape::Square => "square",
             Shape::Lattice => "lattice",
+        }
+    }
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum Backend {
+    /// The band grid in the plane, the R-tree in space.
+    Index,
+    /// An R-tree in the plane too.
+    Rtree,
+    /// Brute force from the definition.
+    Exact,
+}
+
+impl Backend {
+    fn name(self) -> &'static str {
+        match self {
+            Backend::Index => "index",
+            Backend::Rtree => "rtree",
+            Backend::Exact => "exact",
+        }
+    }
+
+    fn engine(self) -> SightBackend {
+        match self {
+            Backend::Index => SightBackend::Index,
+            Backend::Rtree => SightBackend::Rtree,
+            Backend::Exact => SightBackend::Exact,
         }
     }
 }
@@ -67,6 +97,10 @@ pub struct StressArgs {
     /// Start configuration.
     #[arg(long, value_enum, default_value = "square")]
     init: Shape,
+    /// Visibility backend: index (the band grid in the plane, an R-tree in space),
+    /// rtree (an R-tree in the plane too) or exact (brute force).
+    #[arg(long, value_enum, default_value = "index")]
+    backend: Backend,
     /// Scheduler: fsync rounds, or async epochs (the shortest spans in which every robot
     /// completed a cycle).
     #[arg(long, value_enum, default_value = "fsync")]
@@ -196,6 +230,7 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
             threads: pool.current_num_threads(),
             algorithm: kind.name().into(),
             scheduler: if timing.is_some() { "async" } else { "fsync" }.into(),
+            backend: args.backend.name().into(),
             timing: timing.as_ref().map_or_else(String::new, timing_label),
             init: args.init.name().into(),
             seed: args.seed,
@@ -221,7 +256,7 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
             continue;
         }
         reset_peak_rss();
-        measure(kind, args.init, timing, &pool, &mut row)?;
+        measure(kind, args.init, args.backend, timing, &pool, &mut row)?;
         if let Some(l) = &log {
             l.append(&row)?;
         }
@@ -275,6 +310,7 @@ fn timing_label(t: &AsyncSpec) -> String {
 fn measure(
     kind: AlgorithmKind,
     init: Shape,
+    backend: Backend,
     timing: Option<AsyncSpec>,
     pool: &rayon::ThreadPool,
     row: &mut StressRow,
@@ -287,6 +323,7 @@ fn measure(
     let setup = Instant::now();
     let start: Vec<DVec2> = generate(&shape, row.n, row.seed);
     let mut config = SimConfig::paper(kind, row.seed, u64::MAX);
+    config.backend = backend.engine();
     if let Some(t) = timing {
         config.scheduler = SchedulerSpec::Async(t);
     }

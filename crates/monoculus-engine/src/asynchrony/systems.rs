@@ -227,6 +227,7 @@ pub fn look<P: IndexPoint>(
             decide_all(&params, &s, &inputs)
         }
         SnapshotSight::Exact(s) => decide_all(&params, &s, &inputs),
+        SnapshotSight::Rtree(s) => decide_all(&params, &s, &inputs),
     };
     for (&r, (d, memory)) in lookers.iter().zip(outputs) {
         let (_, mut timing, stored) = robots

@@ -22,9 +22,12 @@ use super::{IndexPoint, SpatialIndex};
 /// the other's grid: the robots that moved since it was built are stale, skipped in
 /// its cells and tested one by one (late ConvergeQuadrant rounds move a handful of
 /// robots out of thousands).
-pub struct IndexedSight<P: IndexPoint> {
+///
+/// The index is the dimension's own ([`IndexPoint::Index`]) unless chosen: `I =
+/// SpaceIndex<DVec2>` puts the plane in an R-tree (`vision.backend = "rtree"`).
+pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::Index> {
     positions: Vec<P>,
-    index: P::Index,
+    index: I,
     /// Hull vertices (plane), for farthest-robot questions (built on first use).
     hull: OnceLock<Vec<P>>,
     vision: VisionParams,
@@ -32,11 +35,18 @@ pub struct IndexedSight<P: IndexPoint> {
 }
 
 impl<P: IndexPoint> IndexedSight<P> {
-    /// A sight over `positions`; the index is built when first needed.
+    /// A sight over `positions` with the dimension's index, built when first needed.
     pub fn new(positions: Vec<P>, vision: VisionParams) -> Self {
+        Self::with_index(positions, vision)
+    }
+}
+
+impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
+    /// A sight over `positions` with the index `I`, built when first needed.
+    pub fn with_index(positions: Vec<P>, vision: VisionParams) -> Self {
         IndexedSight {
             bounds: bounds(&positions),
-            index: P::Index::new(&positions),
+            index: I::new(&positions),
             positions,
             hull: OnceLock::new(),
             vision,
@@ -48,7 +58,7 @@ impl<P: IndexPoint> IndexedSight<P> {
     /// all within the grid's box, the grid is kept and those robots are marked stale;
     /// otherwise as [`IndexedSight::new`]. Every answer is the same either way (tested).
     pub fn after(previous: Self, positions: Vec<P>, vision: VisionParams) -> Self {
-        let index = P::Index::after(
+        let index = I::after(
             previous.index,
             &previous.positions,
             &positions,
@@ -79,7 +89,7 @@ impl<P: IndexPoint> IndexedSight<P> {
     }
 }
 
-impl<P: IndexPoint> Sight<P> for IndexedSight<P> {
+impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
     fn positions(&self) -> &[P] {
         &self.positions
     }

@@ -31,6 +31,7 @@ impl<P: IndexPoint> Simulation<P> {
         match snapshot.sight.as_ref().expect("snapshot refreshed") {
             SnapshotSight::Index(s) => !any_moves(&params, s, &robots),
             SnapshotSight::Exact(s) => !any_moves(&params, s, &robots),
+            SnapshotSight::Rtree(s) => !any_moves(&params, s, &robots),
         }
     }
 

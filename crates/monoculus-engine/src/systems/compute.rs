@@ -106,5 +106,6 @@ pub fn compute_intents<P: IndexPoint>(
     match snapshot.sight.as_ref().expect("Look runs before Compute") {
         SnapshotSight::Index(s) => compute_all(&params, clock.round, s, &mut robots),
         SnapshotSight::Exact(s) => compute_all(&params, clock.round, s, &mut robots),
+        SnapshotSight::Rtree(s) => compute_all(&params, clock.round, s, &mut robots),
     }
 }

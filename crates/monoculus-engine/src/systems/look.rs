@@ -10,6 +10,9 @@ pub fn build_sight<P: IndexPoint>(params: &Params, points: Vec<P>) -> SnapshotSi
     match params.backend {
         SightBackend::Index => SnapshotSight::Index(IndexedSight::new(points, params.vision)),
         SightBackend::Exact => SnapshotSight::Exact(ExactSight::new(points, params.vision)),
+        SightBackend::Rtree => {
+            SnapshotSight::Rtree(IndexedSight::with_index(points, params.vision))
+        }
     }
 }
 

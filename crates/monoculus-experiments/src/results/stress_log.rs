@@ -31,6 +31,9 @@ pub struct StressRow {
     pub algorithm: String,
     /// Scheduler.
     pub scheduler: String,
+    /// Visibility backend: `index` (band grid in the plane, R-tree in space), `rtree`
+    /// or `exact`.
+    pub backend: String,
     /// ASYNC: the phase durations (`idle=uniform:1:10 compute=uniform:1:5 move=exp:4
     /// start=random`); empty otherwise.
     pub timing: String,
@@ -67,8 +70,8 @@ pub struct StressRow {
 }
 
 /// What identifies a measurement for resuming: index, count, n, threads, algorithm,
-/// init, seed, rounds.
-pub type MeasurementKey = (usize, usize, usize, usize, String, String, u64, u64);
+/// backend, init, seed, rounds.
+pub type MeasurementKey = (usize, usize, usize, usize, String, String, String, u64, u64);
 
 impl StressRow {
     /// What identifies a measurement for resuming.
@@ -79,6 +82,7 @@ impl StressRow {
             self.n,
             self.threads,
             self.algorithm.clone(),
+            self.backend.clone(),
             self.init.clone(),
             self.seed,
             self.rounds,
