@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# The experiments beyond the paper (configs/extensions/: limited visibility, about 30 s on
-# 2 cores) -> docs/extensions-table.md, and the figure docs/extensions.md shows.
+# The experiments beyond the paper (configs/extensions/: limited visibility, schedules from
+# files; about 35 s on 2 cores) -> docs/extensions-table.md, and the figures
+# docs/extensions.md shows.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/run-configs.sh configs/extensions docs/extensions-table.md "$@"
 ./target/release/monoculus plot results/extensions/range_locality > /dev/null
 cp results/extensions/range_locality/figures/rho_vs_vision_range.png docs/figures/range_locality_rho.png
+./target/release/monoculus plot results/extensions/file_schedule > /dev/null
+cp results/extensions/file_schedule/figures/rho_vs_scheduler_file.png docs/figures/file_schedule_rho.png

@@ -155,7 +155,7 @@ fn late_round(c: &mut Criterion) {
             config.algorithm.target = target;
             g.bench_with_input(BenchmarkId::new(name, n), &pts, |b, pts| {
                 b.iter_batched(
-                    || Simulation::new(config, pts.clone()).unwrap(),
+                    || Simulation::new(config.clone(), pts.clone()).unwrap(),
                     |mut sim| {
                         sim.step();
                         sim
@@ -214,7 +214,7 @@ fn async_stretch(c: &mut Criterion) {
                     || {
                         let mut cfg = paper_config(AlgorithmKind::ConvergeLocality, 6);
                         cfg.scheduler = SchedulerSpec::Async(timing);
-                        let mut sim = Simulation::new(cfg, pts.clone()).unwrap();
+                        let mut sim = Simulation::new(cfg.clone(), pts.clone()).unwrap();
                         while sim.async_progress().is_some_and(|(_, e)| e == 0) {
                             sim.step();
                         }
@@ -271,7 +271,7 @@ fn plane_backends(c: &mut Criterion) {
             let pts = unit_density(n, 1);
             g.bench_function(BenchmarkId::new(format!("round/{label}"), n), |b| {
                 b.iter_batched(
-                    || Simulation::new(cfg, pts.clone()).unwrap(),
+                    || Simulation::new(cfg.clone(), pts.clone()).unwrap(),
                     |mut sim| {
                         sim.step();
                         black_box(sim.positions().len())

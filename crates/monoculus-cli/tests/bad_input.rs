@@ -407,3 +407,72 @@ fn set_errors_are_blamed_on_the_set_argument() {
         );
     }
 }
+
+#[test]
+fn bad_schedule_files_name_their_file_and_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let with_schedule = |csv: &str| {
+        std::fs::write(tmp.path().join("s.csv"), csv).unwrap();
+        let text = format!("{GOOD}\n[scheduler]\nkind = \"file\"\nfile = \"s.csv\"\n");
+        let cfg = tmp.path().join("bad.toml");
+        std::fs::write(&cfg, text).unwrap();
+        let e = fails(&["check", cfg.to_str().unwrap()]);
+        one_line(&e)
+            .replace(cfg.to_str().unwrap(), "bad.toml")
+            .replace(tmp.path().join("s.csv").to_str().unwrap(), "s.csv")
+    };
+    for (csv, expected) in [
+        (
+            "round,robot\n1,0\n1,10\n",
+            "s.csv:3: robot 10, but the swarm has 10 robots (numbered from 0)",
+        ),
+        (
+            "round,robot\n2,0\n1,1\n",
+            "s.csv:3: round 1 after round 2: rounds must increase",
+        ),
+        (
+            "round,robot\n1,3\n1,3\n",
+            "s.csv:3: robot 3 is listed twice in round 1",
+        ),
+        (
+            "round,robot\n0,1\n",
+            "s.csv:2: round 0: rounds are numbered from 1",
+        ),
+        (
+            "round,robot\n1,x\n",
+            "s.csv:2: column robot: `x` is not a robot index (0, 1, ...)",
+        ),
+        (
+            "round;robot\n1;1\n",
+            "s.csv:1: header must name columns round and robot, got `round;robot`",
+        ),
+    ] {
+        let e = with_schedule(csv);
+        assert_eq!(
+            e,
+            format!("error: bad.toml:16: scheduler.file: {expected}"),
+            "{csv}"
+        );
+    }
+    let cfg = tmp.path().join("bad.toml");
+    std::fs::write(&cfg, format!("{GOOD}\n[scheduler]\nkind = \"file\"\n")).unwrap();
+    let e = fails(&["check", cfg.to_str().unwrap()]);
+    assert!(
+        one_line(&e).ends_with(
+            "bad.toml:15: scheduler.kind: kind = \"file\" needs scheduler.file, a CSV with header round,robot"
+        ),
+        "{e}"
+    );
+    std::fs::write(
+        &cfg,
+        format!("{GOOD}\n[scheduler]\nkind = \"ssync\"\nfile = \"s.csv\"\n"),
+    )
+    .unwrap();
+    let e = fails(&["check", cfg.to_str().unwrap()]);
+    assert!(
+        one_line(&e).ends_with(
+            "bad.toml:16: scheduler.file: a schedule file is read only with kind = \"file\", not \"ssync\""
+        ),
+        "{e}"
+    );
+}

@@ -43,7 +43,7 @@ pub use asynchrony::{AsyncSpec, AsyncStart, TickDist};
 pub use error::{EngineError, MAX_MAGNITUDE, MAX_ROBOTS};
 pub use index::{IndexPoint, IndexedSight, SegmentGrid, SpaceIndex, SpatialIndex, Tube};
 pub use resources::SightBackend;
-pub use scheduler::{SchedulerSpec, SequentialOrder};
+pub use scheduler::{ActivationError, ActivationList, SchedulerSpec, SequentialOrder};
 pub use simulation::{Activity, RobotView, RoundReport, RunOutcome, SimConfig, Simulation};
 pub use stop::{StopCriterion, StopSpec};
 pub use systems::RoundSet;

@@ -23,7 +23,7 @@ pub enum SightBackend {
 }
 
 /// The fixed parameters of a run.
-#[derive(Resource, Clone, Copy, Debug)]
+#[derive(Resource, Clone, Debug)]
 pub struct Params {
     /// Algorithm, b, c.
     pub algorithm: AlgorithmParams,

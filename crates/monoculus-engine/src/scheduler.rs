@@ -12,8 +12,85 @@ pub enum SequentialOrder {
     Random,
 }
 
+/// A schedule given in full (SPEC 9.4): for rounds k = 1, 2, ..., the robots activated
+/// in round k. Rounds not listed activate nobody; the run ends after the last listed one.
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub struct ActivationList {
+    /// (round, its robots ascending), rounds strictly increasing, all >= 1.
+    rounds: Vec<(u64, Vec<u32>)>,
+}
+
+/// Why rounds do not make an [`ActivationList`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ActivationError {
+    /// Round 0 (rounds are 1-based).
+    #[error("round 0: rounds are numbered from 1")]
+    RoundZero,
+    /// A round after a later one, or listed again.
+    #[error("round {round} after round {previous}: rounds must increase")]
+    NotIncreasing {
+        /// The round.
+        round: u64,
+        /// The round before it.
+        previous: u64,
+    },
+    /// A robot twice in one round.
+    #[error("robot {robot} is listed twice in round {round}")]
+    Twice {
+        /// The round.
+        round: u64,
+        /// The robot.
+        robot: u32,
+    },
+}
+
+impl ActivationList {
+    /// A schedule from (round, robots) pairs in increasing order of round; the robots of
+    /// a round may come in any order but each once.
+    pub fn new(mut rounds: Vec<(u64, Vec<u32>)>) -> Result<Self, ActivationError> {
+        let mut previous = 0;
+        for (round, robots) in &mut rounds {
+            if *round == 0 {
+                return Err(ActivationError::RoundZero);
+            }
+            if *round <= previous {
+                return Err(ActivationError::NotIncreasing {
+                    round: *round,
+                    previous,
+                });
+            }
+            previous = *round;
+            robots.sort_unstable();
+            if let Some(w) = robots.windows(2).find(|w| w[0] == w[1]) {
+                return Err(ActivationError::Twice {
+                    round: *round,
+                    robot: w[0],
+                });
+            }
+        }
+        Ok(ActivationList { rounds })
+    }
+
+    /// The number of rounds: the last listed one (0 if none).
+    pub fn rounds(&self) -> u64 {
+        self.rounds.last().map_or(0, |r| r.0)
+    }
+
+    /// The robots of round `k` (1-based), ascending; empty if the round is not listed.
+    pub fn round(&self, k: u64) -> &[u32] {
+        self.rounds
+            .binary_search_by_key(&k, |r| r.0)
+            .map_or(&[], |i| self.rounds[i].1.as_slice())
+    }
+
+    /// The largest robot index listed, if any.
+    pub fn max_robot(&self) -> Option<u32> {
+        self.rounds.iter().filter_map(|r| r.1.last().copied()).max()
+    }
+}
+
 /// Which robots act in a round.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum SchedulerSpec {
     /// Every robot, every round.
     Fsync,
@@ -30,6 +107,8 @@ pub enum SchedulerSpec {
         /// Which one.
         order: SequentialOrder,
     },
+    /// The robots of a given list in each round (SSYNC-style), until the list ends.
+    File(std::sync::Arc<ActivationList>),
     /// Continuous time in whole ticks: every robot cycles Idle -> Look -> Compute ->
     /// Move with random durations; time is reported in epochs.
     Async(crate::AsyncSpec),
@@ -43,6 +122,15 @@ impl SchedulerSpec {
             SchedulerSpec::Ssync { .. } => "ssync",
             SchedulerSpec::Sequential { .. } => "sequential",
             SchedulerSpec::Async(_) => "async",
+            SchedulerSpec::File(_) => "file",
+        }
+    }
+
+    /// The last round the scheduler has, if it has one (a schedule from a file).
+    pub fn last_round(&self) -> Option<u64> {
+        match self {
+            SchedulerSpec::File(list) => Some(list.rounds()),
+            _ => None,
         }
     }
 }

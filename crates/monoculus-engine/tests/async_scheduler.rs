@@ -43,10 +43,11 @@ fn fixed_durations_starting_together_reproduce_fsync() {
                 cfg.stop.criterion = criterion;
                 cfg.stop.max_rounds = 400;
                 let start = common::square(8 + 7 * seed as usize, 9.0, seed);
-                let mut fsync = Simulation::new(cfg, start.clone()).unwrap();
+                let mut fsync = Simulation::new(cfg.clone(), start.clone()).unwrap();
                 let f = fsync.run();
                 let (i, c, m) = [(1, 1, 1), (3, 2, 4), (2, 5, 1), (1, 1, 7)][k];
-                let mut asim = Simulation::new(with_async(cfg, lockstep(i, c, m)), start).unwrap();
+                let mut asim =
+                    Simulation::new(with_async(cfg.clone(), lockstep(i, c, m)), start).unwrap();
                 let mut a = asim.run();
                 assert!(a.ticks.is_some());
                 a.ticks = None;
@@ -61,8 +62,8 @@ fn fixed_durations_starting_together_reproduce_fsync() {
 fn epochs_and_ticks_in_lockstep() {
     let cfg = common::config(AlgorithmKind::ConvergeQuadrant, SchedulerSpec::Fsync, 1);
     let start = common::square(30, 12.0, 1);
-    let f = Simulation::new(cfg, start.clone()).unwrap().run();
-    let a = Simulation::new(with_async(cfg, lockstep(2, 3, 4)), start)
+    let f = Simulation::new(cfg.clone(), start.clone()).unwrap().run();
+    let a = Simulation::new(with_async(cfg.clone(), lockstep(2, 3, 4)), start)
         .unwrap()
         .run();
     // Cycle k: Look at 9k, compute until 9k+3, move until 9k+7 = end of epoch k+1.
@@ -83,7 +84,7 @@ fn converge_locality_under_async_never_grows_the_committed_hull() {
             random_timing(start),
         );
         let n = [10, 30, 60][seed as usize % 3];
-        let out = Simulation::new(cfg, common::square(n, 14.0, seed))
+        let out = Simulation::new(cfg.clone(), common::square(n, 14.0, seed))
             .unwrap()
             .run();
         assert!(out.converged, "seed {seed}: {out:?}");
@@ -124,7 +125,7 @@ fn termination_stops_under_async() {
         );
         cfg.stop.max_rounds = 20_000;
         let mut sim = Simulation::new(
-            with_async(cfg, random_timing(AsyncStart::Together)),
+            with_async(cfg.clone(), random_timing(AsyncStart::Together)),
             common::square(20, 8.0, seed),
         )
         .unwrap();
@@ -148,7 +149,7 @@ fn async_results_do_not_depend_on_thread_count() {
                 common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 5),
                 random_timing(AsyncStart::Random),
             );
-            let mut sim = Simulation::new(cfg, common::square(300, 30.0, 5)).unwrap();
+            let mut sim = Simulation::new(cfg.clone(), common::square(300, 30.0, 5)).unwrap();
             let out = sim.run();
             (out, sim.positions().to_vec())
         })
@@ -167,11 +168,11 @@ fn the_exact_backend_agrees_under_async() {
             random_timing(AsyncStart::Random),
         );
         let start = common::square(25, 8.0, 2);
-        let a = Simulation::new(cfg, start.clone()).unwrap().run();
+        let a = Simulation::new(cfg.clone(), start.clone()).unwrap().run();
         cfg.backend = SightBackend::Exact;
         assert_eq!(
             a,
-            Simulation::new(cfg, start).unwrap().run(),
+            Simulation::new(cfg.clone(), start).unwrap().run(),
             "{}",
             kind.name()
         );
@@ -222,10 +223,10 @@ fn runs_with_long_moves_differ_from_runs_with_one_tick_moves() {
     };
     let cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 3);
     let start = common::square(40, 12.0, 3);
-    let a = Simulation::new(with_async(cfg, slow), start.clone())
+    let a = Simulation::new(with_async(cfg.clone(), slow), start.clone())
         .unwrap()
         .run();
-    let b = Simulation::new(with_async(cfg, quick), start)
+    let b = Simulation::new(with_async(cfg.clone(), quick), start)
         .unwrap()
         .run();
     assert_ne!(a.moves, b.moves);
@@ -240,7 +241,7 @@ fn under_async_the_hull_of_positions_alone_can_grow() {
             common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, seed),
             random_timing(AsyncStart::Together),
         );
-        Simulation::new(cfg, common::square(60, 14.0, seed))
+        Simulation::new(cfg.clone(), common::square(60, 14.0, seed))
             .unwrap()
             .run()
             .hull_growth_rounds
@@ -264,10 +265,10 @@ fn watching_a_run_tick_by_tick_does_not_change_it() {
             AlgorithmKind::ConvergeLocality,
             AlgorithmKind::ConvergeQuadrantTermination,
         ] {
-            let cfg = common::config(kind, scheduler, 5);
+            let cfg = common::config(kind, scheduler.clone(), 5);
             let start = common::square(30, 8.0, 5);
-            let plain = Simulation::new(cfg, start.clone()).unwrap().run();
-            let mut sim = Simulation::new(cfg, start).unwrap();
+            let plain = Simulation::new(cfg.clone(), start.clone()).unwrap().run();
+            let mut sim = Simulation::new(cfg.clone(), start).unwrap();
             let mut steps = 0u64;
             let mut times = Vec::new();
             let watched = sim.run_observed(|s| {

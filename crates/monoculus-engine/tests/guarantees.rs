@@ -29,8 +29,8 @@ fn converge_locality_never_grows_the_hull_and_converges() {
     for scheduler in schedulers() {
         for seed in 0..12 {
             let n = [8, 25, 60][seed as usize % 3];
-            let cfg = common::config(AlgorithmKind::ConvergeLocality, scheduler, seed);
-            let out = Simulation::new(cfg, common::square(n, 15.0, seed))
+            let cfg = common::config(AlgorithmKind::ConvergeLocality, scheduler.clone(), seed);
+            let out = Simulation::new(cfg.clone(), common::square(n, 15.0, seed))
                 .unwrap()
                 .run();
             assert!(out.converged, "{scheduler:?} seed {seed}: {out:?}");
@@ -54,7 +54,7 @@ fn converge_locality_at_quiescence_diameter_is_at_most_2c() {
         let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, seed);
         cfg.stop.criterion = StopCriterion::Quiescent;
         cfg.stop.max_rounds = 2_000;
-        let out = Simulation::new(cfg, common::square(20 + seed as usize, 12.0, seed))
+        let out = Simulation::new(cfg.clone(), common::square(20 + seed as usize, 12.0, seed))
             .unwrap()
             .run();
         assert!(out.converged, "seed {seed} never quiescent: {out:?}");
@@ -71,7 +71,7 @@ fn converge_locality_at_quiescence_diameter_is_at_most_2c() {
 fn converge_locality_on_a_line_stops_by_diameter() {
     let line: Vec<DVec2> = generate(&InitShape::Line { side: 12.0 }, 15, 4);
     let cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 4);
-    let out = Simulation::new(cfg, line).unwrap().run();
+    let out = Simulation::new(cfg.clone(), line).unwrap().run();
     assert!(out.converged && out.final_diameter <= 2.0, "{out:?}");
 }
 
@@ -80,8 +80,8 @@ fn converge_quadrant_ends_inside_a_2b_box() {
     for scheduler in schedulers() {
         for seed in 0..10 {
             let n = [5, 30, 80][seed as usize % 3];
-            let cfg = common::config(AlgorithmKind::ConvergeQuadrant, scheduler, seed);
-            let out = Simulation::new(cfg, common::square(n, 12.0, seed))
+            let cfg = common::config(AlgorithmKind::ConvergeQuadrant, scheduler.clone(), seed);
+            let out = Simulation::new(cfg.clone(), common::square(n, 12.0, seed))
                 .unwrap()
                 .run();
             assert!(out.converged, "{scheduler:?} seed {seed}: {out:?}");
@@ -98,7 +98,7 @@ fn converge_quadrant_ends_inside_a_2b_box() {
         generate::<DVec2>(&InitShape::Line { side: 10.0 }, 12, 1),
     ] {
         let cfg = common::config(AlgorithmKind::ConvergeQuadrant, SchedulerSpec::Fsync, 2);
-        let out = Simulation::new(cfg, start).unwrap().run();
+        let out = Simulation::new(cfg.clone(), start).unwrap().run();
         assert!(
             out.converged && out.final_extents.iter().all(|&e| e <= 2.0),
             "{out:?}"
@@ -121,10 +121,13 @@ fn converge_quadrant_termination_reaches_quiescence() {
     ] {
         for seed in 0..10 {
             let n = [4, 20, 50][seed as usize % 3];
-            let mut cfg =
-                common::config(AlgorithmKind::ConvergeQuadrantTermination, scheduler, seed);
+            let mut cfg = common::config(
+                AlgorithmKind::ConvergeQuadrantTermination,
+                scheduler.clone(),
+                seed,
+            );
             cfg.stop.max_rounds = 50_000;
-            let mut sim = Simulation::new(cfg, common::square(n, 10.0, seed)).unwrap();
+            let mut sim = Simulation::new(cfg.clone(), common::square(n, 10.0, seed)).unwrap();
             let out = sim.run();
             assert!(
                 out.converged,
@@ -166,7 +169,7 @@ fn quiescent_fsync_counts_only_rounds_with_moves() {
     // Three robots far apart in general position: everybody moves until all are near.
     let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 1);
     cfg.stop.criterion = StopCriterion::Quiescent;
-    let mut sim = Simulation::new(cfg, common::square(12, 8.0, 1)).unwrap();
+    let mut sim = Simulation::new(cfg.clone(), common::square(12, 8.0, 1)).unwrap();
     let mut moving_rounds = 0;
     let out = sim.run_with(|r| {
         if r.round > 0 {
@@ -187,7 +190,7 @@ fn quiescent_fsync_counts_only_rounds_with_moves() {
 fn the_round_cap_reports_not_converged() {
     let mut cfg = common::config(AlgorithmKind::ConvergeQuadrant, SchedulerSpec::Fsync, 0);
     cfg.stop.max_rounds = 3;
-    let out = Simulation::new(cfg, common::square(50, 30.0, 0))
+    let out = Simulation::new(cfg.clone(), common::square(50, 30.0, 0))
         .unwrap()
         .run();
     assert!(!out.converged);
@@ -198,10 +201,10 @@ fn the_round_cap_reports_not_converged() {
 fn schedulers_activate_as_specified() {
     let n = 10;
     let run = |scheduler: SchedulerSpec, rounds: u64| {
-        let mut cfg = common::config(AlgorithmKind::ConvergeQuadrant, scheduler, 5);
+        let mut cfg = common::config(AlgorithmKind::ConvergeQuadrant, scheduler.clone(), 5);
         cfg.stop.max_rounds = rounds;
         let mut per_round = vec![];
-        Simulation::new(cfg, common::square(n, 200.0, 5))
+        Simulation::new(cfg.clone(), common::square(n, 200.0, 5))
             .unwrap()
             .run_with(|r| per_round.push(r.activated));
         per_round
@@ -251,7 +254,7 @@ fn ssync_fairness_bounds_waiting() {
         9,
     );
     cfg.stop.max_rounds = 1000;
-    let mut sim = Simulation::new(cfg, common::square(30, 400.0, 9)).unwrap();
+    let mut sim = Simulation::new(cfg.clone(), common::square(30, 400.0, 9)).unwrap();
     for _ in 0..50 {
         sim.step();
         let world = sim.world();

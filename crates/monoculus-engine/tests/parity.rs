@@ -11,9 +11,9 @@ fn indexed_and_exact_backends_give_identical_runs() {
         for (name, pts) in common::zoo(1) {
             let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
             cfg.stop.max_rounds = 60;
-            let a = Simulation::new(cfg, pts.clone()).unwrap();
+            let a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
             cfg.backend = SightBackend::Exact;
-            let b = Simulation::new(cfg, pts.clone()).unwrap();
+            let b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
             let (mut a, mut b) = (a, b);
             let (oa, ob) = (a.run(), b.run());
             assert_eq!(oa, ob, "{} on {name}", kind.name());
@@ -32,9 +32,9 @@ fn backends_agree_with_the_listing_reference() {
         let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 5);
         cfg.algorithm.target = TargetPolicy::RandomListing;
         cfg.stop.max_rounds = 60;
-        let mut a = Simulation::new(cfg, pts.clone()).unwrap();
+        let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
         cfg.backend = SightBackend::Exact;
-        let mut b = Simulation::new(cfg, pts.clone()).unwrap();
+        let mut b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
         assert_eq!(a.run(), b.run(), "{name}");
         assert_eq!(a.positions(), b.positions(), "{name}");
     }
@@ -51,9 +51,9 @@ fn backends_agree_with_a_limited_range() {
                 let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
                 cfg.stop.max_rounds = 40;
                 cfg.vision.range = range;
-                let mut a = Simulation::new(cfg, pts.clone()).unwrap();
+                let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
                 cfg.backend = SightBackend::Exact;
-                let mut b = Simulation::new(cfg, pts.clone()).unwrap();
+                let mut b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
                 let (oa, ob) = (a.run(), b.run());
                 assert_eq!(oa, ob, "{} on {name}, V = {range}", kind.name());
                 assert_eq!(a.positions(), b.positions());
@@ -70,9 +70,9 @@ fn an_rtree_in_the_plane_gives_the_same_runs() {
         for (name, pts) in common::zoo(1) {
             let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
             cfg.stop.max_rounds = 60;
-            let mut grid = Simulation::new(cfg, pts.clone()).unwrap();
+            let mut grid = Simulation::new(cfg.clone(), pts.clone()).unwrap();
             cfg.backend = SightBackend::Rtree;
-            let mut tree = Simulation::new(cfg, pts.clone()).unwrap();
+            let mut tree = Simulation::new(cfg.clone(), pts.clone()).unwrap();
             let (og, ot) = (grid.run(), tree.run());
             assert_eq!(og, ot, "{} on {name}", kind.name());
             assert_eq!(
@@ -91,8 +91,8 @@ fn an_rtree_in_the_plane_gives_the_same_runs() {
     );
     cfg.stop.max_rounds = 30;
     let pts = common::square(60, 8.0, 2);
-    let a = Simulation::new(cfg, pts.clone()).unwrap().run();
+    let a = Simulation::new(cfg.clone(), pts.clone()).unwrap().run();
     cfg.backend = SightBackend::Rtree;
-    let b = Simulation::new(cfg, pts).unwrap().run();
+    let b = Simulation::new(cfg.clone(), pts).unwrap().run();
     assert_eq!(a, b);
 }

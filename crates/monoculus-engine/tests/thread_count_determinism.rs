@@ -15,8 +15,8 @@ fn run_in_pool(
         .build()
         .unwrap();
     pool.install(|| {
-        let cfg = common::config(kind, scheduler, 42);
-        let mut sim = Simulation::new(cfg, common::square(300, 30.0, 42)).unwrap();
+        let cfg = common::config(kind, scheduler.clone(), 42);
+        let mut sim = Simulation::new(cfg.clone(), common::square(300, 30.0, 42)).unwrap();
         let out = sim.run();
         (out, sim.positions().to_vec())
     })
@@ -35,9 +35,9 @@ fn results_do_not_depend_on_thread_count() {
                 fairness: None,
             },
         ] {
-            let (a, pa) = run_in_pool(1, kind, scheduler);
-            let (b, pb) = run_in_pool(2, kind, scheduler);
-            let (c, pc) = run_in_pool(5, kind, scheduler);
+            let (a, pa) = run_in_pool(1, kind, scheduler.clone());
+            let (b, pb) = run_in_pool(2, kind, scheduler.clone());
+            let (c, pc) = run_in_pool(5, kind, scheduler.clone());
             assert_eq!(a, b, "{} {scheduler:?}", kind.name());
             assert_eq!(a, c);
             assert_eq!(pa, pb);

@@ -61,9 +61,11 @@ fn rtree_matches_the_definition_in_space() {
 }
 
 fn run3(kind: AlgorithmKind, scheduler: SchedulerSpec, seed: u64, n: usize) -> RunOutcome {
-    let mut cfg = common::config(kind, scheduler, seed);
+    let mut cfg = common::config(kind, scheduler.clone(), seed);
     cfg.stop.max_rounds = 50_000;
-    Simulation::new(cfg, cube(n, 10.0, seed)).unwrap().run()
+    Simulation::new(cfg.clone(), cube(n, 10.0, seed))
+        .unwrap()
+        .run()
 }
 
 #[test]
@@ -78,7 +80,7 @@ fn converge_locality_in_space_never_grows_the_hull() {
         for seed in 0..8 {
             let out = run3(
                 AlgorithmKind::ConvergeLocality,
-                scheduler,
+                scheduler.clone(),
                 seed,
                 [8, 30, 60][seed as usize % 3],
             );
@@ -137,12 +139,12 @@ fn space_runs_under_async_and_match_the_exact_backend() {
             4,
         );
         let start = cube(20, 6.0, 4);
-        let a = Simulation::new(cfg, start.clone()).unwrap().run();
+        let a = Simulation::new(cfg.clone(), start.clone()).unwrap().run();
         assert!(a.converged, "{}: {a:?}", kind.name());
         cfg.backend = SightBackend::Exact;
         assert_eq!(
             a,
-            Simulation::new(cfg, start).unwrap().run(),
+            Simulation::new(cfg.clone(), start).unwrap().run(),
             "{}",
             kind.name()
         );

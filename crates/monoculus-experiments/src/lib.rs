@@ -8,6 +8,7 @@ pub mod positions;
 pub mod replay;
 pub mod results;
 pub mod runner;
+pub mod schedule;
 pub mod shard;
 
 pub use config::{Cell, ConfigError, Experiment, RunId};

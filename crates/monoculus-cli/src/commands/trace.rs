@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use glam::{DVec2, DVec3};
 use monoculus_engine::{IndexPoint, RunOutcome, Simulation};
 use monoculus_experiments::Cell;
+use monoculus_experiments::config::SchedulerKind;
 use monoculus_experiments::results::num;
 
 use super::{ConfigArgs, Failure, pick_cell, thread_pool};
@@ -22,6 +23,10 @@ pub struct TraceArgs {
     /// (columns round, robot, x, y).
     #[arg(long)]
     positions: bool,
+    /// Also write the robots activated in each round to FILE (columns round, robot):
+    /// a schedule that `scheduler.kind = "file"` replays exactly. Round schedulers only.
+    #[arg(long, value_name = "FILE")]
+    schedule: Option<PathBuf>,
     /// Which cell of a sweep (default: the config must have one cell).
     #[arg(long)]
     cell: Option<usize>,
@@ -33,6 +38,12 @@ pub struct TraceArgs {
 pub fn trace(args: TraceArgs) -> Result<(), Failure> {
     let exp = args.config.load()?;
     let cell = pick_cell(&exp, args.cell, &args.config.config)?;
+    if args.schedule.is_some() && cell.spec.scheduler.kind == SchedulerKind::Async {
+        return Err(Failure::Input(
+            "--schedule: lists the rounds of a round scheduler, and ASYNC has no rounds of activations"
+                .into(),
+        ));
+    }
     let pool = thread_pool(args.threads)?;
     let outcome = pool.install(|| match cell.dim() {
         3 => trace_in::<DVec3>(cell, &args),
@@ -79,6 +90,14 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     } else {
         None
     };
+    let mut schedule_out = match &args.schedule {
+        Some(path) => {
+            let mut f = std::io::BufWriter::new(create(path)?);
+            writeln!(f, "round,robot")?;
+            Some(f)
+        }
+        None => None,
+    };
     let mut io_error: Option<std::io::Error> = None;
     let mut sim = Simulation::<P>::new(
         cell.sim_config(args.seed),
@@ -108,6 +127,11 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
                     writeln!(f, "{},{},{}", r.round, i, c.join(","))?;
                 }
             }
+            if let Some(f) = schedule_out.as_mut() {
+                for robot in r.activated_robots() {
+                    writeln!(f, "{},{robot}", r.round)?;
+                }
+            }
             Ok(())
         };
         if io_error.is_none()
@@ -121,8 +145,8 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
         return Err(e.into());
     }
     out.flush()?;
-    if let Some(mut f) = pos_out {
-        f.flush()?;
+    for f in [pos_out, schedule_out].into_iter().flatten() {
+        f.into_inner().map_err(|e| e.into_error())?;
     }
     Ok(outcome)
 }

@@ -37,6 +37,16 @@ pub(super) fn validate<P: IndexPoint>(
             "initial positions must be finite and at most {MAX_MAGNITUDE:e} in magnitude"
         )));
     }
+    if let Some(robot) = match &config.scheduler {
+        SchedulerSpec::File(list) => list.max_robot(),
+        _ => None,
+    } && robot as usize >= initial.len()
+    {
+        return Err(EngineError::Invalid(format!(
+            "the schedule activates robot {robot} of {} (robots are numbered from 0)",
+            initial.len()
+        )));
+    }
     Ok(())
 }
 
@@ -46,7 +56,7 @@ pub(super) fn params(config: &SimConfig) -> Params {
         algorithm: config.algorithm,
         vision: config.vision,
         backend: config.backend,
-        scheduler: config.scheduler,
+        scheduler: config.scheduler.clone(),
         seed: config.seed,
         movement: config.movement,
     }

@@ -34,7 +34,7 @@ use crate::{
 };
 
 /// Everything that defines a run besides the initial positions.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct SimConfig {
     /// Algorithm, step b, locality c.
     pub algorithm: AlgorithmParams,
@@ -92,6 +92,28 @@ pub struct RoundReport<'a, P> {
     pub extents: &'a [f64],
     /// Positions by robot index.
     pub positions: &'a [P],
+    world: &'a World,
+}
+
+impl<P> RoundReport<'_, P> {
+    /// The robots activated in this round, ascending (round schedulers; empty for
+    /// round 0 and under ASYNC, whose epochs are not rounds of activations).
+    pub fn activated_robots(&self) -> Vec<u32> {
+        if self.round == 0 || self.world.contains_resource::<AsyncClock>() {
+            return Vec::new();
+        }
+        let mut q = self
+            .world
+            .try_query::<(&Robot, &Activated)>()
+            .expect("robots carry Activated");
+        let mut robots: Vec<u32> = q
+            .iter(self.world)
+            .filter(|(_, a)| a.0)
+            .map(|(r, _)| r.index)
+            .collect();
+        robots.sort_unstable();
+        robots
+    }
 }
 
 /// The metrics of a finished run (SPEC section 6).
@@ -168,7 +190,7 @@ impl<P: IndexPoint> Simulation<P> {
         build::validate(&config, &initial)?;
         let params = build::params(&config);
         let mut world = World::new();
-        let hull_initial = build::populate(&mut world, &config, params, &initial);
+        let hull_initial = build::populate(&mut world, &config, params.clone(), &initial);
         let mut schedule = Schedule::default();
         if let SchedulerSpec::Async(spec) = config.scheduler {
             wiring::wire_async(
@@ -254,6 +276,7 @@ impl<P: IndexPoint> Simulation<P> {
             diameter: shape.diameter,
             extents: &shape.extents,
             positions: self.positions(),
+            world: &self.world,
         }
     }
 }

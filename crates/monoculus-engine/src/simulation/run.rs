@@ -16,7 +16,7 @@ impl<P: IndexPoint> Simulation<P> {
             .iter(&self.world)
             .map(|(r, m)| (r.index as usize, m.map(|m| m.0)))
             .collect();
-        let params = *self.world.resource::<Params>();
+        let params = self.world.resource::<Params>().clone();
         let snapshot = self.world.resource::<Snapshot<P>>();
         fn any_moves<P: IndexPoint, S: Sight<P>>(
             params: &Params,
@@ -109,7 +109,13 @@ impl<P: IndexPoint> Simulation<P> {
             if self.criterion_holds() {
                 break true;
             }
-            if rounds >= self.config.stop.max_rounds {
+            if rounds >= self.config.stop.max_rounds
+                || self
+                    .config
+                    .scheduler
+                    .last_round()
+                    .is_some_and(|last| rounds >= last)
+            {
                 break false;
             }
             let before = *self.world.resource::<Tally>();

@@ -17,13 +17,13 @@ pub fn activate_robots(
     let round = clock.round;
     // Only the schedulers that pick robots by index need n: FSYNC skips the pass.
     let count = |robots: &Query<(&Robot, &mut Activated, &mut Waiting)>| robots.iter().count();
-    match params.scheduler {
+    match &params.scheduler {
         SchedulerSpec::Fsync => {
             for (_, mut active, _) in &mut robots {
                 active.0 = true;
             }
         }
-        SchedulerSpec::Ssync { p, fairness } => {
+        &SchedulerSpec::Ssync { p, fairness } => {
             let mut any = false;
             for (robot, mut active, waiting) in &mut robots {
                 let forced = fairness.is_some_and(|k| waiting.0 >= k);
@@ -43,10 +43,16 @@ pub fn activate_robots(
                 waiting.0 = if active.0 { 0 } else { waiting.0 + 1 };
             }
         }
+        SchedulerSpec::File(list) => {
+            let listed = list.round(round + 1);
+            for (robot, mut active, _) in &mut robots {
+                active.0 = listed.binary_search(&robot.index).is_ok();
+            }
+        }
         SchedulerSpec::Async(_) => {
             unreachable!("round systems do not run under the async scheduler")
         }
-        SchedulerSpec::Sequential { order } => {
+        &SchedulerSpec::Sequential { order } => {
             let n = count(&robots);
             if n == 0 {
                 return;

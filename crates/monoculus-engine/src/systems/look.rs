@@ -44,7 +44,7 @@ pub fn take_snapshot<P: IndexPoint>(
 
 /// [`take_snapshot`] outside the schedule (for the quiescence check).
 pub fn refresh_snapshot<P: IndexPoint>(world: &mut World) {
-    let params = *world.resource::<Params>();
+    let params = world.resource::<Params>().clone();
     world.resource_scope(|world, mut snapshot: Mut<Snapshot<P>>| {
         update(&params, world.resource::<Positions<P>>(), &mut snapshot);
     });

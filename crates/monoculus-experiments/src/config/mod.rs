@@ -34,6 +34,7 @@ use typed::typed;
 use validate::{validate, validate_axes, validate_run_count};
 
 use crate::positions::{PositionsFile, read_positions};
+use crate::schedule::{ScheduleFile, read_schedule};
 
 /// One swept key and its values.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,6 +58,8 @@ pub struct Cell {
     pub spec: RunSpec,
     /// Positions read from `swarm.file`, if `init = "file"`.
     pub file_positions: Option<PositionsFile>,
+    /// The schedule read from `scheduler.file`, if `scheduler.kind = "file"`.
+    pub schedule: Option<std::sync::Arc<monoculus_engine::ActivationList>>,
 }
 
 /// A loaded, validated experiment.

@@ -240,6 +240,8 @@ pub enum SchedulerKind {
     Sequential,
     /// Continuous time (ticks), per-robot cycles.
     Async,
+    /// The rounds and robots of a CSV file (`scheduler.file`).
+    File,
 }
 
 fn one_tick() -> TickDist {
@@ -254,9 +256,12 @@ fn default_p() -> f64 {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SchedulerConfig {
-    /// `fsync` (default), `ssync`, `sequential`.
+    /// `fsync` (default), `ssync`, `sequential`, `async`, `file`.
     #[serde(default)]
     pub kind: SchedulerKind,
+    /// `file`: CSV with header `round,robot`, relative to the config file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
     /// SSYNC activation probability. Default 0.5.
     #[serde(default = "default_p")]
     pub p: f64,
@@ -331,6 +336,7 @@ impl Default for SchedulerConfig {
     fn default() -> Self {
         SchedulerConfig {
             kind: SchedulerKind::Fsync,
+            file: None,
             p: default_p(),
             fairness: None,
             order: SequentialOrder::RoundRobin,

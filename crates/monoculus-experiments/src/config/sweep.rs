@@ -94,7 +94,7 @@ impl Experiment {
         let count = validate_axes(&axes, &src)?;
         let mut cells = Vec::with_capacity(count);
         let mut warnings = Vec::new();
-        let mut files: HashMap<PathBuf, PositionsFile> = HashMap::new();
+        let mut files = validate::Files::default();
         for index in 0..count {
             let mut rest = index;
             let mut chosen = vec![0; axes.len()];
@@ -109,7 +109,8 @@ impl Experiment {
                 values.push((axis.path.clone(), render(&axis.values[c])));
             }
             let spec = typed(cell_table, &src)?;
-            let file_positions = validate(&spec, &src, base, &mut files, &mut warnings)?;
+            let (file_positions, schedule) =
+                validate(&spec, &src, base, &mut files, &mut warnings)?;
             let key = values
                 .iter()
                 .map(|(k, v)| format!("{k}={v}"))
@@ -121,6 +122,7 @@ impl Experiment {
                 values,
                 spec,
                 file_positions,
+                schedule,
             });
         }
         let first = &cells[0].spec;

@@ -64,6 +64,11 @@ impl Cell {
                     start: sc.start,
                 }),
                 SchedulerKind::Sequential => SchedulerSpec::Sequential { order: sc.order },
+                SchedulerKind::File => SchedulerSpec::File(
+                    self.schedule
+                        .clone()
+                        .expect("the schedule file is read at validation"),
+                ),
             },
             stop: StopSpec {
                 criterion: self.criterion(),

@@ -105,13 +105,27 @@ pub(super) fn name_problem(name: &str) -> Option<String> {
     Some(format!("{name:?} {problem}"))
 }
 
+/// The files an experiment's cells read, each read once.
+#[derive(Default)]
+pub(super) struct Files {
+    positions: HashMap<PathBuf, PositionsFile>,
+    schedules: HashMap<PathBuf, ScheduleFile>,
+}
+
+/// What a cell reads from files: its positions (`swarm.file`) and schedule
+/// (`scheduler.file`).
+type Loaded = (
+    Option<PositionsFile>,
+    Option<std::sync::Arc<monoculus_engine::ActivationList>>,
+);
+
 pub(super) fn validate(
     spec: &RunSpec,
     src: &Source<'_>,
     base: &Path,
-    files: &mut HashMap<PathBuf, PositionsFile>,
+    files: &mut Files,
     warnings: &mut Vec<String>,
-) -> Result<Option<PositionsFile>, ConfigError> {
+) -> Result<Loaded, ConfigError> {
     let err = |key: &str, m: String| Err(src.error(key, m));
     match &spec.seeds {
         Seeds::Count(0) => return err("seeds", "must be at least 1".into()),
@@ -166,12 +180,12 @@ pub(super) fn validate(
             );
         };
         let path = base.join(file);
-        let pts = match files.get(&path) {
+        let pts = match files.positions.get(&path) {
             Some(p) => p.clone(),
             None => {
                 let p =
                     read_positions(&path).map_err(|e| src.error("swarm.file", e.to_string()))?;
-                files.insert(path.clone(), p.clone());
+                files.positions.insert(path.clone(), p.clone());
                 p
             }
         };
@@ -254,6 +268,43 @@ pub(super) fn validate(
         );
     }
     let sc = &spec.scheduler;
+    let schedule = match (sc.kind, &sc.file) {
+        (SchedulerKind::File, None) => {
+            return err(
+                "scheduler.kind",
+                "kind = \"file\" needs scheduler.file, a CSV with header round,robot".into(),
+            );
+        }
+        (SchedulerKind::File, Some(file)) => {
+            let path = base.join(file);
+            let schedule = match files.schedules.get(&path) {
+                Some(s) => s.clone(),
+                None => {
+                    let s = read_schedule(&path)
+                        .map_err(|e| src.error("scheduler.file", e.to_string()))?;
+                    files.schedules.insert(path.clone(), s.clone());
+                    s
+                }
+            };
+            let n = file_positions
+                .as_ref()
+                .map_or(s.n.unwrap_or(0), PositionsFile::len);
+            if let Err(m) = schedule.check_robots(n, &path.display().to_string()) {
+                return err("scheduler.file", m);
+            }
+            Some(schedule.list)
+        }
+        (kind, Some(_)) => {
+            return err(
+                "scheduler.file",
+                format!(
+                    "a schedule file is read only with kind = \"file\", not {:?}",
+                    format!("{kind:?}").to_lowercase()
+                ),
+            );
+        }
+        (_, None) => None,
+    };
     if !(sc.p > 0.0 && sc.p <= 1.0) {
         return err("scheduler.p", format!("must be in (0, 1], got {}", sc.p));
     }
@@ -314,5 +365,5 @@ pub(super) fn validate(
             format!("delta_min must be non-negative, got {}", nr.delta_min),
         );
     }
-    Ok(file_positions)
+    Ok((file_positions, schedule))
 }
