@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The experiments beyond the paper (configs/extensions/: limited visibility, schedules from
-# files; about 35 s on 2 cores) -> docs/extensions-table.md, and the figures
+# files, faulty robots; about 50 s on 2 cores) -> docs/extensions-table.md, and the figures
 # docs/extensions.md shows.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -9,3 +9,5 @@ scripts/run-configs.sh configs/extensions docs/extensions-table.md "$@"
 cp results/extensions/range_locality/figures/rho_vs_vision_range.png docs/figures/range_locality_rho.png
 ./target/release/monoculus plot results/extensions/file_schedule > /dev/null
 cp results/extensions/file_schedule/figures/rho_vs_scheduler_file.png docs/figures/file_schedule_rho.png
+./target/release/monoculus plot results/extensions/faults_crash_locality > /dev/null
+cp results/extensions/faults_crash_locality/figures/rho_vs_faults_count.png docs/figures/faults_crash_locality_rho.png

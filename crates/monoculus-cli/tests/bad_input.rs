@@ -476,3 +476,65 @@ fn bad_schedule_files_name_their_file_and_line() {
         "{e}"
     );
 }
+
+#[test]
+fn bad_fault_keys_are_named() {
+    let faults = |body: &str| config_error(&format!("{GOOD}\n[faults]\n{body}\n")).0;
+    for (body, expected) in [
+        (
+            "kind = \"crash\"",
+            "bad.toml:15: faults.kind: [faults] needs count (robots) or fraction (of the robots)",
+        ),
+        (
+            "kind = \"crash\"\ncount = 10",
+            "bad.toml:16: faults.count: 10 faulty robots of 10: at least one robot must be correct",
+        ),
+        (
+            "kind = \"crash\"\ncount = 1\nfraction = 0.5",
+            "bad.toml:17: faults.fraction: give count or fraction, not both",
+        ),
+        (
+            "kind = \"byzantine\"\nfraction = 1.5",
+            "bad.toml:16: faults.fraction: must be in [0, 1], got 1.5",
+        ),
+        (
+            "kind = \"crash\"\ncount = 1\nat = \"random\"",
+            "bad.toml:17: faults.at: at = \"random\" needs until, the last round a crash may start",
+        ),
+        (
+            "kind = \"crash\"\ncount = 1\nuntil = 5",
+            "bad.toml:17: faults.until: until is read only with at = \"random\"",
+        ),
+        (
+            "kind = \"crash\"\ncount = 1\nrule = \"away\"",
+            "bad.toml:17: faults.rule: a rule is for byzantine robots; crashed robots stay",
+        ),
+        (
+            "kind = \"byzantine\"\ncount = 1\nat = 3",
+            "bad.toml:17: faults.at: crash rounds are for crashed robots; byzantine robots move at every activation",
+        ),
+    ] {
+        let e = faults(body);
+        assert_eq!(one_line(&e), format!("error: {expected}"), "{body}");
+    }
+    let e = faults("kind = \"lazy\"\ncount = 1");
+    assert!(
+        one_line(&e).starts_with("error: bad.toml:15: faults.kind"),
+        "{e}"
+    );
+    let e = faults("kind = \"byzantine\"\ncount = 1\nrule = \"north\"");
+    assert!(
+        one_line(&e).starts_with("error: bad.toml:17: faults.rule"),
+        "{e}"
+    );
+    let e = config_error(&format!(
+        "{GOOD}\n[scheduler]\nkind = \"async\"\n\n[faults]\nkind = \"crash\"\ncount = 1\n"
+    ))
+    .0;
+    assert!(
+        one_line(&e).starts_with(
+            "error: bad.toml:18: faults.kind: faulty robots run under the round schedulers"
+        ),
+        "{e}"
+    );
+}

@@ -23,6 +23,8 @@ pub enum Purpose {
     RobotFrame = 4,
     /// Observation and movement errors.
     Error = 5,
+    /// Which robots are faulty, when they crash (SPEC 9.1).
+    Fault = 6,
 }
 
 /// SplitMix64 finaliser: a bijective 64-bit mixer.

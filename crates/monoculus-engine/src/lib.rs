@@ -22,6 +22,7 @@
 //!     stop: StopSpec { criterion: StopCriterion::default_for(algorithm.kind), max_rounds: 10_000 },
 //!     seed: 7,
 //!     movement: MovementErrors::NONE,
+//!     faults: None,
 //! };
 //! let start: Vec<DVec2> = generate(&InitShape::Square { side: 20.0 }, 50, 7);
 //! let outcome = Simulation::new(config, start).unwrap().run();
@@ -32,6 +33,7 @@
 pub mod asynchrony;
 pub mod components;
 mod error;
+pub mod faults;
 mod index;
 pub mod resources;
 mod scheduler;
@@ -41,6 +43,7 @@ pub mod systems;
 
 pub use asynchrony::{AsyncSpec, AsyncStart, TickDist};
 pub use error::{EngineError, MAX_MAGNITUDE, MAX_ROBOTS};
+pub use faults::{ByzantineRule, CrashAt, FaultCount, FaultKind, FaultPlan, FaultSpec, Role};
 pub use index::{IndexPoint, IndexedSight, SegmentGrid, SpaceIndex, SpatialIndex, Tube};
 pub use resources::SightBackend;
 pub use scheduler::{ActivationError, ActivationList, SchedulerSpec, SequentialOrder};

@@ -37,6 +37,23 @@ pub struct Params {
     pub seed: u64,
     /// Movement errors.
     pub movement: MovementErrors,
+    /// Every robot's role, when some are faulty.
+    pub faults: Option<std::sync::Arc<crate::FaultPlan>>,
+}
+
+impl Params {
+    /// Whether robot `i` runs the algorithm (is not faulty).
+    pub fn is_correct(&self, i: usize) -> bool {
+        self.faults.as_ref().is_none_or(|f| f.is_correct(i))
+    }
+
+    /// The positions of the correct robots (all of them without faults).
+    pub fn correct<'a, P: Copy>(&self, points: &'a [P]) -> std::borrow::Cow<'a, [P]> {
+        match &self.faults {
+            Some(f) => std::borrow::Cow::Owned(f.correct(points)),
+            None => std::borrow::Cow::Borrowed(points),
+        }
+    }
 }
 
 /// The current round number (rounds completed so far).

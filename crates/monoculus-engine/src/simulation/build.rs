@@ -37,6 +37,32 @@ pub(super) fn validate<P: IndexPoint>(
             "initial positions must be finite and at most {MAX_MAGNITUDE:e} in magnitude"
         )));
     }
+    if let Some(spec) = &config.faults {
+        if matches!(config.scheduler, SchedulerSpec::Async(_)) {
+            return Err(EngineError::Invalid(
+                "faulty robots run under the round schedulers (fsync, ssync, sequential, file), not yet under async".into(),
+            ));
+        }
+        match spec.count {
+            crate::FaultCount::Robots(f) if f > initial.len() => {
+                return Err(EngineError::Invalid(format!(
+                    "{f} faulty robots of {}",
+                    initial.len()
+                )));
+            }
+            crate::FaultCount::Fraction(x) if !(0.0..=1.0).contains(&x) => {
+                return Err(EngineError::Invalid(format!(
+                    "the fraction of faulty robots must be in [0, 1], got {x}"
+                )));
+            }
+            _ => {}
+        }
+        if spec.faulty(initial.len()) == initial.len() {
+            return Err(EngineError::Invalid(
+                "every robot is faulty: at least one must be correct".into(),
+            ));
+        }
+    }
     if let Some(robot) = match &config.scheduler {
         SchedulerSpec::File(list) => list.max_robot(),
         _ => None,
@@ -50,9 +76,12 @@ pub(super) fn validate<P: IndexPoint>(
     Ok(())
 }
 
-/// The parameters every system reads.
-pub(super) fn params(config: &SimConfig) -> Params {
+/// The parameters every system reads, with the faulty robots of a run of `n` drawn.
+pub(super) fn params(config: &SimConfig, n: usize) -> Params {
     Params {
+        faults: config
+            .faults
+            .map(|spec| std::sync::Arc::new(crate::FaultPlan::draw(&spec, n, config.seed))),
         algorithm: config.algorithm,
         vision: config.vision,
         backend: config.backend,
@@ -70,14 +99,16 @@ pub(super) fn populate<P: IndexPoint>(
     params: Params,
     initial: &[P],
 ) -> f64 {
-    let shape = Shape::of(initial);
+    let correct = params.correct(initial);
+    let shape = Shape::of(&correct);
     let hull_initial = shape.hull;
+    let hull_vertices = P::hull_vertices(&correct);
     world.insert_resource(params);
     world.insert_resource(Clock::default());
     world.insert_resource(ScheduleState::default());
     world.insert_resource(Tally::default());
     world.insert_resource(shape);
-    world.insert_resource(HullVertices(P::hull_vertices(initial)));
+    world.insert_resource(HullVertices(hull_vertices));
     world.insert_resource(Snapshot::<P> {
         sight: None,
         generation: 0,

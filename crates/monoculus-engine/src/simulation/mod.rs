@@ -50,6 +50,8 @@ pub struct SimConfig {
     pub seed: u64,
     /// Movement errors (step-length factor, non-rigid moves).
     pub movement: MovementErrors,
+    /// Faulty robots (SPEC 9.1), if any.
+    pub faults: Option<crate::FaultSpec>,
 }
 
 impl SimConfig {
@@ -71,6 +73,7 @@ impl SimConfig {
             },
             seed,
             movement: MovementErrors::NONE,
+            faults: None,
         }
     }
 }
@@ -156,6 +159,8 @@ pub struct RunOutcome {
     pub terminated: Option<u64>,
     /// ASYNC: the tick at which the run stopped.
     pub ticks: Option<u64>,
+    /// The number of faulty robots (SPEC 9.1); the metrics above are the correct robots'.
+    pub faulty: u64,
 }
 
 impl RunOutcome {
@@ -188,9 +193,15 @@ impl<P: IndexPoint> Simulation<P> {
     /// A simulation of `initial` (robot i starts at `initial[i]`).
     pub fn new(config: SimConfig, initial: Vec<P>) -> Result<Self, EngineError> {
         build::validate(&config, &initial)?;
-        let params = build::params(&config);
+        let params = build::params(&config, initial.len());
         let mut world = World::new();
         let hull_initial = build::populate(&mut world, &config, params.clone(), &initial);
+        let correct = params.correct(&initial);
+        let (d_opt, d_max) = (
+            metrics::d_opt(&correct, config.algorithm.locality),
+            metrics::d_max(&correct),
+        );
+        drop(correct);
         let mut schedule = Schedule::default();
         if let SchedulerSpec::Async(spec) = config.scheduler {
             wiring::wire_async(
@@ -207,8 +218,8 @@ impl<P: IndexPoint> Simulation<P> {
         Ok(Simulation {
             world,
             schedule,
-            d_opt: metrics::d_opt(&initial, config.algorithm.locality),
-            d_max: metrics::d_max(&initial),
+            d_opt,
+            d_max,
             hull_initial,
             config,
             last_quiescence_check: None,

@@ -8,15 +8,16 @@ impl<P: IndexPoint> Simulation<P> {
         q.iter(&self.world).map(|(e, m)| (e, m.0)).collect()
     }
 
-    /// Whether no robot would move if activated now.
+    /// Whether no correct robot would move if activated now.
     pub fn is_quiescent(&mut self) -> bool {
         refresh_snapshot::<P>(&mut self.world);
         let mut q = self.world.query::<(&Robot, Option<&Memory>)>();
+        let params = self.world.resource::<Params>().clone();
         let robots: Vec<(usize, Option<RobotMemory>)> = q
             .iter(&self.world)
+            .filter(|(r, _)| params.is_correct(r.index as usize))
             .map(|(r, m)| (r.index as usize, m.map(|m| m.0)))
             .collect();
-        let params = self.world.resource::<Params>().clone();
         let snapshot = self.world.resource::<Snapshot<P>>();
         fn any_moves<P: IndexPoint, S: Sight<P>>(
             params: &Params,
@@ -188,6 +189,12 @@ impl<P: IndexPoint> Simulation<P> {
             committed_hull_growth: tally.committed_hull_growth,
             terminated,
             ticks: self.world.get_resource::<AsyncClock>().map(|c| c.tick),
+            faulty: self
+                .world
+                .resource::<Params>()
+                .faults
+                .as_ref()
+                .map_or(0, |f| f.faulty() as u64),
         }
     }
 }

@@ -6,9 +6,11 @@ use rayon::prelude::*;
 
 use crate::IndexPoint;
 use crate::components::{Activated, Intent, Memory, Robot};
+use crate::faults::{Role, byzantine_move};
 use crate::resources::{Clock, Params, Snapshot, SnapshotSight};
 
-/// One robot's decision in `round`: its global displacement or `None`.
+/// One robot's decision in `round`: its global displacement or `None`. A crashed robot
+/// stays from its crash round on; a Byzantine robot follows its rule (SPEC 9.1).
 pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized>(
     params: &Params,
     sight: &S,
@@ -16,11 +18,32 @@ pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized>(
     round: u64,
     memory: Option<&mut RobotMemory>,
 ) -> Option<P> {
-    if certainly_stays(&params.algorithm, sight, robot) {
-        return None;
+    let role = params
+        .faults
+        .as_ref()
+        .map_or(Role::Correct, |f| f.role(robot));
+    let stream = || Stream::keyed(params.seed, Purpose::Decide, robot as u64, round);
+    match role {
+        Role::Crashed { from } if round >= from => None,
+        Role::Byzantine(rule) => byzantine_move(
+            rule,
+            sight.positions(),
+            robot,
+            params.algorithm.step,
+            &mut stream(),
+        ),
+        _ if certainly_stays(&params.algorithm, sight, robot) => None,
+        _ => activate(&params.algorithm, sight, robot, memory, &mut stream()),
     }
-    let mut stream = Stream::keyed(params.seed, Purpose::Decide, robot as u64, round);
-    activate(&params.algorithm, sight, robot, memory, &mut stream)
+}
+
+/// Whether robot `robot` may move if activated: Byzantine robots always may; for the
+/// others, unless [`certainly_stays`] vouches that it stays.
+fn may_move<P: IndexPoint, S: Sight<P>>(params: &Params, sight: &S, robot: usize) -> bool {
+    matches!(
+        params.faults.as_ref().map(|f| f.role(robot)),
+        Some(Role::Byzantine(_))
+    ) || !certainly_stays(&params.algorithm, sight, robot)
 }
 
 /// The displacement a robot actually makes for the decided displacement `d` in its
@@ -70,7 +93,7 @@ fn compute_all<P: IndexPoint, S: Sight<P>>(
     loop {
         items.clear();
         for (robot, active, mut intent, memory) in robots.by_ref() {
-            if active.0 && !certainly_stays(&params.algorithm, sight, robot.index as usize) {
+            if active.0 && may_move(params, sight, robot.index as usize) {
                 items.push((robot, active, intent, memory));
                 if items.len() == BATCH {
                     break;

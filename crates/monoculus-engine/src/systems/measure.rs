@@ -2,7 +2,7 @@ use bevy_ecs::prelude::*;
 
 use crate::IndexPoint;
 use crate::components::{Activated, Intent, Robot};
-use crate::resources::{Clock, HullVertices, Positions, Shape, Tally};
+use crate::resources::{Clock, HullVertices, Params, Positions, Shape, Tally};
 
 /// Relative tolerance for "the hull grew": moving inside the hull changes its area only
 /// by rounding.
@@ -25,9 +25,10 @@ pub fn record_hull(tally: &mut Tally, shape: &Shape, measured: &mut Shape) {
     measured.hull_max = shape.hull_max.max(measured.hull);
 }
 
-/// Measures the configuration after the moves: hull size, diameter, extents; counts the
-/// round if the hull grew.
+/// Measures the configuration of the correct robots after the moves: hull size,
+/// diameter, extents; counts the round if the hull grew.
 pub fn measure_shape<P: IndexPoint>(
+    params: Res<Params>,
     positions: Res<Positions<P>>,
     mut shape: ResMut<Shape>,
     mut hull: ResMut<HullVertices<P>>,
@@ -36,14 +37,11 @@ pub fn measure_shape<P: IndexPoint>(
     if tally.round_moves == 0 {
         return;
     }
-    hull.0 = P::hull_vertices(&positions.points);
+    let correct = params.correct(&positions.points);
+    hull.0 = P::hull_vertices(&correct);
     // Area, diameter and extents are those of the hull's vertices (the same vertex
     // sequence, so the same values to the bit); in space there is no vertex list.
-    let basis = if hull.0.is_empty() {
-        &positions.points
-    } else {
-        &hull.0
-    };
+    let basis: &[P] = if hull.0.is_empty() { &correct } else { &hull.0 };
     let mut measured = Shape::of(basis);
     record_hull(&mut tally, &shape, &mut measured);
     *shape = measured;
@@ -54,6 +52,7 @@ pub fn measure_shape<P: IndexPoint>(
 /// this never happens under ConvergeLocality; under ASYNC it is the hull that Lemma 2
 /// bounds, and this keeps the two schedulers' counts comparable.
 pub fn measure_committed<P: IndexPoint>(
+    params: Res<Params>,
     positions: Res<Positions<P>>,
     shape: Res<Shape>,
     hull: Res<HullVertices<P>>,
@@ -62,7 +61,8 @@ pub fn measure_committed<P: IndexPoint>(
 ) {
     let mut pts: Vec<P> = Vec::new();
     for (robot, active, intent) in &robots {
-        if let (true, Some(d)) = (active.0, intent.0) {
+        if let (true, Some(d), true) = (active.0, intent.0, params.is_correct(robot.index as usize))
+        {
             pts.push(positions.points[robot.index as usize] + d);
         }
     }
@@ -71,7 +71,7 @@ pub fn measure_committed<P: IndexPoint>(
     if pts.iter().all(|&d| P::strictly_inside(&hull.0, d)) {
         return;
     }
-    pts.extend_from_slice(&positions.points);
+    pts.extend_from_slice(&params.correct(&positions.points));
     if hull_grew(shape.hull, P::hull_measure(&pts)) {
         tally.committed_hull_growth += 1;
     }

@@ -2,32 +2,39 @@ use bevy_ecs::prelude::*;
 
 use crate::IndexPoint;
 use crate::components::{Activated, Intent, Robot};
-use crate::resources::{Positions, Tally};
+use crate::resources::{Params, Positions, Tally};
 
-/// Move: activated robots apply their displacement.
+/// Move: activated robots apply their displacement. Activations, moves and distance
+/// count the correct robots only (SPEC 9.1); any move makes a new configuration.
 pub fn apply_moves<P: IndexPoint>(
+    params: Res<Params>,
     robots: Query<(&Robot, &Activated, &Intent<P>)>,
     mut positions: ResMut<Positions<P>>,
     mut tally: ResMut<Tally>,
 ) {
-    let (mut activated, mut moved) = (0u64, 0u64);
+    let (mut activated, mut moved, mut any) = (0u64, 0u64, false);
     for (robot, active, intent) in &robots {
         if !active.0 {
             continue;
         }
-        activated += 1;
+        let i = robot.index as usize;
+        let correct = params.is_correct(i);
+        activated += u64::from(correct);
         if let Some(d) = intent.0 {
-            positions.points[robot.index as usize] += d;
-            moved += 1;
-            // Summed robot by robot, in index order, as the async scheduler does.
-            tally.distance += d.length();
+            positions.points[i] += d;
+            any = true;
+            if correct {
+                moved += 1;
+                // Summed robot by robot, in index order, as the async scheduler does.
+                tally.distance += d.length();
+            }
         }
     }
     tally.round_activations = activated;
     tally.round_moves = moved;
     tally.activations += activated;
     tally.moves += moved;
-    if moved > 0 {
+    if any {
         positions.generation += 1;
     }
 }

@@ -21,7 +21,8 @@ use monoculus_core::geometry::Point;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::VisionParams;
 use monoculus_engine::{
-    AsyncSpec, MAX_MAGNITUDE, SchedulerSpec, SimConfig, StopCriterion, StopSpec, TickDist,
+    AsyncSpec, ByzantineRule, CrashAt, FaultCount, FaultKind, FaultSpec, MAX_MAGNITUDE,
+    SchedulerSpec, SimConfig, StopCriterion, StopSpec, TickDist,
 };
 
 pub use error::ConfigError;

@@ -2,7 +2,7 @@
 
 use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::errors::FactorDist;
-use monoculus_engine::{AsyncStart, SequentialOrder, SightBackend, TickDist};
+use monoculus_engine::{AsyncStart, ByzantineRule, SequentialOrder, SightBackend, TickDist};
 use serde::{Deserialize, Serialize};
 
 /// Which seeds every cell runs: `seeds = 100` (0..99) or `seeds = [3, 7]`.
@@ -108,6 +108,61 @@ pub struct RunSpec {
     /// Observation and movement errors (all off by default).
     #[serde(default)]
     pub errors: ErrorsConfig,
+    /// Faulty robots (SPEC 9.1). Default: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub faults: Option<FaultsConfig>,
+}
+
+/// What faulty robots do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FaultKindName {
+    /// They stop forever.
+    Crash,
+    /// They move by a rule of their own.
+    Byzantine,
+}
+
+/// `at = "random"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RandomRound {
+    /// A uniform round in [0, `until`].
+    Random,
+}
+
+/// `at`: a round, or `"random"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum CrashAtConfig {
+    /// From this round (0: the start).
+    Round(u64),
+    /// A uniform round in [0, `until`], per crashed robot.
+    Random(RandomRound),
+}
+
+/// `[faults]` (SPEC 9.1).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FaultsConfig {
+    /// `crash` or `byzantine`.
+    pub kind: FaultKindName,
+    /// This many faulty robots...
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<u64>,
+    /// ... or this share of them, rounded down.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fraction: Option<f64>,
+    /// Crash: the first round without moves (0, the default: from the start), or
+    /// `"random"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<CrashAtConfig>,
+    /// Crash with `at = "random"`: the last round a crash may start.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until: Option<u64>,
+    /// Byzantine: `random` (the default), `away` or `farthest`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rule: Option<ByzantineRule>,
 }
 
 /// Initial shape names.

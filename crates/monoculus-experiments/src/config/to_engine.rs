@@ -75,6 +75,24 @@ impl Cell {
                 max_rounds: self.spec.stop.max_rounds,
             },
             seed,
+            faults: self.spec.faults.as_ref().map(|f| FaultSpec {
+                count: match (f.count, f.fraction) {
+                    (_, Some(x)) => FaultCount::Fraction(x),
+                    (c, None) => FaultCount::Robots(c.unwrap_or(0) as usize),
+                },
+                kind: match f.kind {
+                    FaultKindName::Crash => FaultKind::Crash(match (f.at, f.until) {
+                        (Some(CrashAtConfig::Random(_)), until) => CrashAt::Random {
+                            until: until.unwrap_or(0),
+                        },
+                        (Some(CrashAtConfig::Round(r)), _) => CrashAt::Round(r),
+                        (None, _) => CrashAt::Round(0),
+                    }),
+                    FaultKindName::Byzantine => {
+                        FaultKind::Byzantine(f.rule.unwrap_or(ByzantineRule::Random))
+                    }
+                },
+            }),
             movement: MovementErrors {
                 step_factor: self.spec.errors.step_factor,
                 non_rigid: self.spec.errors.non_rigid.map(|n| n.delta_min),

@@ -119,6 +119,98 @@ type Loaded = (
     Option<std::sync::Arc<monoculus_engine::ActivationList>>,
 );
 
+/// `[faults]`: one of count and fraction, at least one robot correct, the keys of the
+/// kind only, and a round scheduler.
+fn validate_faults(
+    f: &FaultsConfig,
+    n: usize,
+    scheduler: SchedulerKind,
+    src: &Source<'_>,
+) -> Result<(), ConfigError> {
+    let err = |key: &str, m: String| Err(src.error(key, m));
+    if scheduler == SchedulerKind::Async {
+        return err(
+            "faults.kind",
+            "faulty robots run under the round schedulers (fsync, ssync, sequential, file), not yet under async".into(),
+        );
+    }
+    let faulty = match (f.count, f.fraction) {
+        (Some(_), Some(_)) => {
+            return err("faults.fraction", "give count or fraction, not both".into());
+        }
+        (None, None) => {
+            return err(
+                "faults.kind",
+                "[faults] needs count (robots) or fraction (of the robots)".into(),
+            );
+        }
+        (Some(c), None) => c,
+        (None, Some(x)) => {
+            if !(0.0..=1.0).contains(&x) {
+                return err("faults.fraction", format!("must be in [0, 1], got {x}"));
+            }
+            (x * n as f64).floor() as u64
+        }
+    };
+    if faulty >= n as u64 {
+        let key = if f.count.is_some() {
+            "faults.count"
+        } else {
+            "faults.fraction"
+        };
+        return err(
+            key,
+            format!("{faulty} faulty robots of {n}: at least one robot must be correct"),
+        );
+    }
+    match f.kind {
+        FaultKindName::Crash => {
+            if f.rule.is_some() {
+                return err(
+                    "faults.rule",
+                    "a rule is for byzantine robots; crashed robots stay".into(),
+                );
+            }
+            match (f.at, f.until) {
+                (Some(CrashAtConfig::Random(_)), None) => {
+                    return err(
+                        "faults.at",
+                        "at = \"random\" needs until, the last round a crash may start".into(),
+                    );
+                }
+                (Some(CrashAtConfig::Random(_)), Some(u)) if u > u64::from(u32::MAX) => {
+                    return err(
+                        "faults.until",
+                        format!("must be at most {}, got {u}", u32::MAX),
+                    );
+                }
+                (Some(CrashAtConfig::Random(_)), Some(_)) => {}
+                (_, Some(_)) => {
+                    return err(
+                        "faults.until",
+                        "until is read only with at = \"random\"".into(),
+                    );
+                }
+                _ => {}
+            }
+        }
+        FaultKindName::Byzantine => {
+            for (key, given) in [
+                ("faults.at", f.at.is_some()),
+                ("faults.until", f.until.is_some()),
+            ] {
+                if given {
+                    return err(
+                        key,
+                        "crash rounds are for crashed robots; byzantine robots move at every activation".into(),
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 pub(super) fn validate(
     spec: &RunSpec,
     src: &Source<'_>,
@@ -305,6 +397,12 @@ pub(super) fn validate(
         }
         (_, None) => None,
     };
+    if let Some(f) = &spec.faults {
+        let n = file_positions
+            .as_ref()
+            .map_or(s.n.unwrap_or(0), PositionsFile::len);
+        validate_faults(f, n, sc.kind, src)?;
+    }
     if !(sc.p > 0.0 && sc.p <= 1.0) {
         return err("scheduler.p", format!("must be in (0, 1], got {}", sc.p));
     }

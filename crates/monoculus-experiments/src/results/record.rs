@@ -19,7 +19,7 @@ pub const PARAM_COLUMNS: [(&str, &str); 9] = [
 ];
 
 /// Metric columns of `runs.csv`, after the parameters and the seed.
-pub const METRIC_COLUMNS: [&str; 24] = [
+pub const METRIC_COLUMNS: [&str; 25] = [
     "rounds",
     "activations",
     "moves",
@@ -43,6 +43,7 @@ pub const METRIC_COLUMNS: [&str; 24] = [
     "distance",
     "stop_criterion",
     "ticks",
+    "faulty",
     "wall_ms",
 ];
 
@@ -185,6 +186,8 @@ pub struct RunMetrics {
     pub stop_criterion: String,
     /// ASYNC: the tick at which the run stopped.
     pub ticks: Option<u64>,
+    /// Faulty robots (SPEC 9.1); the metrics are the correct robots'.
+    pub faulty: u64,
     /// Wall time of the run, ms.
     #[serde(with = "millis")]
     pub wall_ms: f64,
@@ -270,6 +273,7 @@ impl RunMetrics {
             distance: o.distance,
             stop_criterion: cell.criterion().name().to_string(),
             ticks: o.ticks,
+            faulty: o.faulty,
             wall_ms,
             config_hash: exp.hash.clone(),
         }
@@ -401,6 +405,7 @@ mod tests {
             distance: 40.0,
             stop_criterion: "box".into(),
             ticks: Some(9),
+            faulty: 0,
             wall_ms: 1.23456,
             config_hash: "00ff".into(),
         };
@@ -413,7 +418,7 @@ mod tests {
         assert_eq!(lines.next().unwrap(), want.join(","));
         assert_eq!(
             lines.next().unwrap(),
-            "3,12,100,40,0.1,0.0000001,inf,100,true,1.5,1,0.25,,2,1,2,0,false,0,0,,40,box,9,1.235,00ff"
+            "3,12,100,40,0.1,0.0000001,inf,100,true,1.5,1,0.25,,2,1,2,0,false,0,0,,40,box,9,0,1.235,00ff"
         );
         let header: Vec<String> = want.clone();
         let schema = RunMetrics::schema(&header).unwrap();
