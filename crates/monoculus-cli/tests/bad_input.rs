@@ -538,3 +538,29 @@ fn bad_fault_keys_are_named() {
         "{e}"
     );
 }
+
+#[test]
+fn bad_adversary_keys_are_named() {
+    let (e, _) = config_error(&format!(
+        "{GOOD}\n[scheduler]\nkind = \"adversary\"\nfairness = 0\n"
+    ));
+    assert_eq!(
+        one_line(&e),
+        "error: bad.toml:16: scheduler.fairness: must be at least 1 (1: every robot every round)"
+    );
+    let (e, _) = config_error(&format!(
+        "{}\n[scheduler]\nkind = \"adversary\"\n",
+        GOOD.replace("side = 10.0", "side = 10.0\ndim = 3")
+    ));
+    assert_eq!(
+        one_line(&e),
+        "error: bad.toml:16: scheduler.kind: the adversary compares hull perimeters: the plane only (dim = 2)"
+    );
+    let (e, _) = config_error(&format!(
+        "{GOOD}\n[scheduler]\nkind = \"adversary\"\nobjective = \"fast\"\n"
+    ));
+    assert!(
+        one_line(&e).starts_with("error: bad.toml:16: scheduler.objective"),
+        "{e}"
+    );
+}

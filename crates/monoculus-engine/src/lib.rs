@@ -46,7 +46,7 @@ pub use error::{EngineError, MAX_MAGNITUDE, MAX_ROBOTS};
 pub use faults::{ByzantineRule, CrashAt, FaultCount, FaultKind, FaultPlan, FaultSpec, Role};
 pub use index::{IndexPoint, IndexedSight, SegmentGrid, SpaceIndex, SpatialIndex, Tube};
 pub use resources::SightBackend;
-pub use scheduler::{ActivationError, ActivationList, SchedulerSpec, SequentialOrder};
+pub use scheduler::{ActivationError, ActivationList, Objective, SchedulerSpec, SequentialOrder};
 pub use simulation::{Activity, RobotView, RoundReport, RunOutcome, SimConfig, Simulation};
 pub use stop::{StopCriterion, StopSpec};
 pub use systems::RoundSet;

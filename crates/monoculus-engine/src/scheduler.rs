@@ -89,6 +89,17 @@ impl ActivationList {
     }
 }
 
+/// What the adversarial scheduler prefers (SPEC 9.5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Objective {
+    /// The one robot whose move alone shrinks the hull's perimeter least.
+    #[default]
+    Slow,
+    /// Every robot whose move alone grows the hull's area (if none, as `Slow`).
+    Grow,
+}
+
 /// Which robots act in a round.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SchedulerSpec {
@@ -107,6 +118,14 @@ pub enum SchedulerSpec {
         /// Which one.
         order: SequentialOrder,
     },
+    /// Each round, among the robots that would move, the ones `objective` prefers, and
+    /// every robot not activated in the last `fairness - 1` rounds (plane only).
+    Adversary {
+        /// What it prefers.
+        objective: Objective,
+        /// k: every robot is activated at least once every k rounds (`None`: k = n).
+        fairness: Option<u32>,
+    },
     /// The robots of a given list in each round (SSYNC-style), until the list ends.
     File(std::sync::Arc<ActivationList>),
     /// Continuous time in whole ticks: every robot cycles Idle -> Look -> Compute ->
@@ -123,6 +142,7 @@ impl SchedulerSpec {
             SchedulerSpec::Sequential { .. } => "sequential",
             SchedulerSpec::Async(_) => "async",
             SchedulerSpec::File(_) => "file",
+            SchedulerSpec::Adversary { .. } => "adversary",
         }
     }
 

@@ -15,6 +15,11 @@ pub trait HullGeometry: Point {
     fn hull_and_diameter(points: &[Self]) -> (f64, f64) {
         (Self::hull_measure(points), Self::diameter(points))
     }
+    /// The perimeter of the convex hull, where the dimension has one (the plane);
+    /// `None` in space.
+    fn hull_perimeter(_points: &[Self]) -> Option<f64> {
+        None
+    }
     /// The vertices of the convex hull, in an order [`HullGeometry::strictly_inside`]
     /// understands (empty where no fast inside test exists).
     fn hull_vertices(_points: &[Self]) -> Vec<Self> {
@@ -239,6 +244,16 @@ impl HullGeometry for DVec2 {
 
     fn hull_vertices(points: &[Self]) -> Vec<Self> {
         convex_hull_2d(points)
+    }
+
+    fn hull_perimeter(points: &[Self]) -> Option<f64> {
+        let hull = convex_hull_2d(points);
+        Some(match hull.len() {
+            0 | 1 => 0.0,
+            // A segment's hull, walked there and back.
+            2 => 2.0 * hull[0].distance(hull[1]),
+            h => (0..h).map(|i| hull[i].distance(hull[(i + 1) % h])).sum(),
+        })
     }
 
     /// O(log h): find the wedge from vertex 0 containing `p`, then test the edge, all

@@ -37,6 +37,19 @@ pub(super) fn validate<P: IndexPoint>(
             "initial positions must be finite and at most {MAX_MAGNITUDE:e} in magnitude"
         )));
     }
+    if matches!(config.scheduler, SchedulerSpec::Adversary { .. }) && P::DIM != 2 {
+        return Err(EngineError::Invalid(
+            "the adversarial scheduler compares hull perimeters: the plane only (dim = 2)".into(),
+        ));
+    }
+    if let SchedulerSpec::Adversary {
+        fairness: Some(0), ..
+    } = config.scheduler
+    {
+        return Err(EngineError::Invalid(
+            "the adversary's fairness k must be at least 1".into(),
+        ));
+    }
     if let Some(spec) = &config.faults {
         if matches!(config.scheduler, SchedulerSpec::Async(_)) {
             return Err(EngineError::Invalid(

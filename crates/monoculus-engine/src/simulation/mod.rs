@@ -213,7 +213,8 @@ impl<P: IndexPoint> Simulation<P> {
                 hull_initial,
             );
         } else {
-            wiring::wire_rounds::<P>(&mut schedule);
+            let adversary = matches!(config.scheduler, SchedulerSpec::Adversary { .. });
+            wiring::wire_rounds::<P>(&mut schedule, adversary);
         }
         Ok(Simulation {
             world,

@@ -58,8 +58,16 @@ pub(super) fn wire_async<P: IndexPoint>(
     ));
 }
 
-/// Wires a synchronous round (FSYNC, SSYNC, sequential).
-pub(super) fn wire_rounds<P: IndexPoint>(schedule: &mut Schedule) {
+/// Wires a synchronous round (FSYNC, SSYNC, sequential, file, adversary: the adversary
+/// chooses after the Look, from the robots' decisions on the snapshot).
+pub(super) fn wire_rounds<P: IndexPoint>(schedule: &mut Schedule, adversary: bool) {
+    if adversary {
+        schedule.add_systems(
+            crate::systems::choose_adversarially::<P>
+                .after(take_snapshot::<P>)
+                .in_set(RoundSet::Look),
+        );
+    }
     schedule.configure_sets(
         (
             RoundSet::Activate,

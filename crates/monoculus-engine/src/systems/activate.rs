@@ -49,6 +49,8 @@ pub fn activate_robots(
                 active.0 = listed.binary_search(&robot.index).is_ok();
             }
         }
+        // Chosen after the Look, by `choose_adversarially`.
+        SchedulerSpec::Adversary { .. } => {}
         SchedulerSpec::Async(_) => {
             unreachable!("round systems do not run under the async scheduler")
         }

@@ -3,6 +3,7 @@
 //! Move -> Measure.
 
 mod activate;
+mod adversary;
 mod compute;
 mod look;
 mod measure;
@@ -11,6 +12,7 @@ mod movement;
 use bevy_ecs::prelude::*;
 
 pub use activate::activate_robots;
+pub use adversary::{choose_adversarially, preferred};
 pub use compute::{compute_intents, decide_one, realise};
 pub use look::{build_sight, refresh_snapshot, take_snapshot};
 pub use measure::{

@@ -2,7 +2,9 @@
 
 use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::errors::FactorDist;
-use monoculus_engine::{AsyncStart, ByzantineRule, SequentialOrder, SightBackend, TickDist};
+use monoculus_engine::{
+    AsyncStart, ByzantineRule, Objective, SequentialOrder, SightBackend, TickDist,
+};
 use serde::{Deserialize, Serialize};
 
 /// Which seeds every cell runs: `seeds = 100` (0..99) or `seeds = [3, 7]`.
@@ -297,6 +299,8 @@ pub enum SchedulerKind {
     Async,
     /// The rounds and robots of a CSV file (`scheduler.file`).
     File,
+    /// Activates the robots its objective prefers, k-fairly (`scheduler.objective`).
+    Adversary,
 }
 
 fn one_tick() -> TickDist {
@@ -311,7 +315,7 @@ fn default_p() -> f64 {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SchedulerConfig {
-    /// `fsync` (default), `ssync`, `sequential`, `async`, `file`.
+    /// `fsync` (default), `ssync`, `sequential`, `async`, `file`, `adversary`.
     #[serde(default)]
     pub kind: SchedulerKind,
     /// `file`: CSV with header `round,robot`, relative to the config file.
@@ -321,8 +325,12 @@ pub struct SchedulerConfig {
     #[serde(default = "default_p")]
     pub p: f64,
     /// SSYNC k-fairness: no robot waits more than this many rounds. Default: none.
+    /// Adversary: every robot is activated at least once every k rounds. Default n.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fairness: Option<u32>,
+    /// Adversary: `slow` (default) or `grow`.
+    #[serde(default)]
+    pub objective: Objective,
     /// Sequential order: `round_robin` (default) or `random`.
     #[serde(default)]
     pub order: SequentialOrder,
@@ -392,6 +400,7 @@ impl Default for SchedulerConfig {
         SchedulerConfig {
             kind: SchedulerKind::Fsync,
             file: None,
+            objective: Objective::Slow,
             p: default_p(),
             fairness: None,
             order: SequentialOrder::RoundRobin,

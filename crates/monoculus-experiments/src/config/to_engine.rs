@@ -64,6 +64,10 @@ impl Cell {
                     start: sc.start,
                 }),
                 SchedulerKind::Sequential => SchedulerSpec::Sequential { order: sc.order },
+                SchedulerKind::Adversary => SchedulerSpec::Adversary {
+                    objective: sc.objective,
+                    fairness: sc.fairness,
+                },
                 SchedulerKind::File => SchedulerSpec::File(
                     self.schedule
                         .clone()

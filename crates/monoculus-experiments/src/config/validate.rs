@@ -403,6 +403,20 @@ pub(super) fn validate(
             .map_or(s.n.unwrap_or(0), PositionsFile::len);
         validate_faults(f, n, sc.kind, src)?;
     }
+    if sc.kind == SchedulerKind::Adversary {
+        if s.dim != 2 {
+            return err(
+                "scheduler.kind",
+                "the adversary compares hull perimeters: the plane only (dim = 2)".into(),
+            );
+        }
+        if sc.fairness == Some(0) {
+            return err(
+                "scheduler.fairness",
+                "must be at least 1 (1: every robot every round)".into(),
+            );
+        }
+    }
     if !(sc.p > 0.0 && sc.p <= 1.0) {
         return err("scheduler.p", format!("must be in (0, 1], got {}", sc.p));
     }
