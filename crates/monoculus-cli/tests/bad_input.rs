@@ -564,3 +564,12 @@ fn bad_adversary_keys_are_named() {
         "{e}"
     );
 }
+
+#[test]
+fn a_negative_robot_radius_is_refused() {
+    let (e, _) = config_error(&format!("{GOOD}\n[vision]\nrobot_radius = -0.5\n"));
+    assert_eq!(
+        one_line(&e),
+        "error: bad.toml:15: vision.robot_radius: must be non-negative, got -0.5"
+    );
+}

@@ -4,7 +4,7 @@
 mod common;
 
 use monoculus_core::prelude::*;
-use monoculus_core::vision::{visible_points_brute, visible_points_sweep_2d};
+use monoculus_core::vision::{blocks, sees_brute, visible_points_brute, visible_points_sweep_2d};
 
 #[test]
 fn sweep_and_index_match_the_definition() {
@@ -282,6 +282,86 @@ fn an_rtree_in_the_plane_matches_the_definition() {
                     a.sort_unstable();
                     assert_eq!(a, b, "{name}: within {radius}");
                 }
+            }
+        }
+    }
+}
+
+/// Fat robots (SPEC 9.3): a robot hides what lies behind it within its radius.
+#[test]
+fn a_fat_robot_hides_what_passes_within_its_radius() {
+    use glam::DVec2;
+    let v = VisionParams {
+        robot_radius: 0.5,
+        ..VisionParams::default()
+    };
+    let p = DVec2::ZERO;
+    let q = DVec2::new(4.0, 0.0);
+    // Beside the segment's middle: within the radius it blocks, beyond it does not.
+    assert!(blocks(p, DVec2::new(2.0, 0.49), q, &v));
+    assert!(!blocks(p, DVec2::new(2.0, 0.51), q, &v));
+    assert!(!blocks(
+        p,
+        DVec2::new(2.0, 0.49),
+        q,
+        &VisionParams::default()
+    ));
+    // Only robots nearer than q block it: one beside q but beyond it does not.
+    assert!(!blocks(p, DVec2::new(4.2, 0.3), q, &v));
+    assert!(blocks(p, DVec2::new(3.9, 0.3), q, &v));
+    // A robot at the observer's own position is excepted.
+    assert!(!blocks(p, DVec2::new(1e-10, 0.0), q, &v));
+}
+
+/// The index (in the plane and in space, and the R-tree in the plane) sees fat robots
+/// as the definition does, on every configuration of the zoo.
+#[test]
+fn fat_robots_are_seen_as_the_definition_says() {
+    use glam::{DVec2, DVec3};
+    use monoculus_engine::{IndexedSight, SpaceIndex};
+    for seed in 0..2 {
+        for (name, pts) in common::zoo(seed) {
+            for radius in [0.02, 0.15, 0.6] {
+                let v = VisionParams {
+                    robot_radius: radius,
+                    ..VisionParams::default()
+                };
+                let grid = IndexedSight::new(pts.clone(), v);
+                let tree: IndexedSight<DVec2, SpaceIndex<DVec2>> =
+                    IndexedSight::with_index(pts.clone(), v);
+                for i in 0..pts.len() {
+                    let brute = visible_points_brute(&pts, i, &v);
+                    assert_eq!(grid.visible_points(i), brute, "{name} r={radius} {i}");
+                    assert_eq!(tree.visible_points(i), brute, "{name} r={radius} {i} tree");
+                    for j in 0..pts.len() {
+                        let want = sees_brute(&pts, i, j, &v);
+                        assert_eq!(tree.sees(i, j), want, "{name} r={radius} {i}->{j}");
+                    }
+                }
+            }
+        }
+    }
+    let mut s = Stream::new(5, 98, 0, 0);
+    let random: Vec<DVec3> = (0..70)
+        .map(|_| DVec3::new(s.uniform(), s.uniform(), s.uniform()) * 6.0)
+        .collect();
+    let lattice: Vec<DVec3> = (0..64)
+        .map(|k| DVec3::new((k % 4) as f64, ((k / 4) % 4) as f64, (k / 16) as f64))
+        .collect();
+    let line: Vec<DVec3> = (0..30).map(|k| DVec3::splat(k as f64 * 0.3)).collect();
+    for (name, pts) in [("random", random), ("lattice", lattice), ("line", line)] {
+        for radius in [0.1, 0.4] {
+            let v = VisionParams {
+                robot_radius: radius,
+                ..VisionParams::default()
+            };
+            let indexed = IndexedSight::new(pts.clone(), v);
+            for i in 0..pts.len() {
+                assert_eq!(
+                    indexed.visible_points(i),
+                    visible_points_brute(&pts, i, &v),
+                    "{name} r={radius} robot {i}"
+                );
             }
         }
     }

@@ -173,8 +173,10 @@ pub fn certainly_stays<P: Point, S: Sight<P> + ?Sized>(
     sight: &S,
     robot: usize,
 ) -> bool {
-    // With a limited range the bounding box says nothing about what a robot sees.
-    if params.kind.model() != Model::Ola || params.errors.any() || sight.vision().limited() {
+    // With a limited range or fat robots the bounding box says nothing about what a
+    // robot sees.
+    let v = sight.vision();
+    if params.kind.model() != Model::Ola || params.errors.any() || v.limited() || v.fat() {
         return false;
     }
     let eps = sight.vision().eps_axis;
@@ -308,6 +310,51 @@ mod tests {
         assert_eq!(occupied(&limited), [true, false, false, false]);
         assert!(certainly_stays(&params, &unlimited, 1));
         assert!(!certainly_stays(&params, &limited, 1));
+    }
+
+    /// With fat robots a side is occupied only by what the robot sees there: a robot
+    /// hidden behind a fat robot on the other side of the axis does not count, and the
+    /// bounding box vouches for nothing.
+    #[test]
+    fn fat_robots_hide_a_side_behind_them() {
+        use crate::algorithms::{AlgorithmParams, certainly_stays};
+        use crate::geometry::AxisFrame;
+        use crate::observe::{OlaObservation, Side};
+        use crate::vision::{ExactSight, VisionParams};
+        use glam::DVec2;
+        // Robot 0 sees robot 1 just below the x axis, 1 ahead; robot 2 lies 5 ahead just
+        // above it, hidden by robot 1's disc (radius 0.3); robots 3 and 4 occupy the
+        // other sides.
+        let pts = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, -0.1),
+            DVec2::new(5.0, 0.2),
+            DVec2::new(-3.0, -1.0),
+            DVec2::new(-2.0, -4.0),
+        ];
+        let params = AlgorithmParams::new(AlgorithmKind::ConvergeQuadrant, 1.0, 2.0);
+        let points = ExactSight::new(pts.clone(), VisionParams::default());
+        let fat = ExactSight::new(
+            pts,
+            VisionParams {
+                robot_radius: 0.3,
+                ..VisionParams::default()
+            },
+        );
+        let occupied = |sight: &ExactSight<DVec2>| {
+            let obs = OlaObservation::new(sight, 0, AxisFrame::identity(2));
+            [
+                (0, Side::Low),
+                (0, Side::High),
+                (1, Side::Low),
+                (1, Side::High),
+            ]
+            .map(|(a, s)| obs.side_occupied(a, s))
+        };
+        assert_eq!(occupied(&points), [true; 4]);
+        assert_eq!(occupied(&fat), [true, true, true, false]);
+        assert!(certainly_stays(&params, &points, 0));
+        assert!(!certainly_stays(&params, &fat, 0));
     }
 
     /// Deserialises `{ name = "<name>" }` through serde's value deserializer.

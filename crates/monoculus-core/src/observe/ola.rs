@@ -106,6 +106,9 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
     /// With a limited visibility range V only robots within V count (a blocker of one
     /// is within V too), found among the robots within V.
     ///
+    /// With fat robots a robot in the half-space may be hidden by robots outside it: the
+    /// visible points are listed (O(n) lines of sight).
+    ///
     /// With tilted axes the half-space is no longer axis-aligned and the robots are
     /// scanned (O(n)).
     pub fn side_occupied(&self, axis: usize, side: Side) -> bool {
@@ -119,6 +122,10 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
         let pos = self.sight.positions();
         let p = pos[self.me];
         let vision = *self.sight.vision();
+        if vision.fat() {
+            let seen = self.sight.visible_points(self.me);
+            return seen.iter().any(|&k| (pos[k] - p).dot(normal) > eps);
+        }
         if vision.limited() {
             let mut occupied = false;
             self.sight.for_each_within(self.me, vision.range, &mut |k| {

@@ -15,6 +15,9 @@ pub struct VisionParams {
     /// Visibility range V (SPEC 9.2): a robot farther than this is not seen. Default
     /// infinite (unlimited).
     pub range: f64,
+    /// Fat robots (SPEC 9.3): every robot is an opaque disc (ball) of this radius that
+    /// hides what lies behind it. Default 0 (points).
+    pub robot_radius: f64,
 }
 
 impl VisionParams {
@@ -25,6 +28,7 @@ impl VisionParams {
             eps_ang: 1e-9,
             eps_axis: 1e-9 * step,
             range: f64::INFINITY,
+            robot_radius: 0.0,
         }
     }
 }
@@ -33,6 +37,11 @@ impl VisionParams {
     /// Whether the range is limited.
     pub fn limited(&self) -> bool {
         self.range.is_finite()
+    }
+
+    /// Whether robots are discs (balls) of positive radius.
+    pub fn fat(&self) -> bool {
+        self.robot_radius > 0.0
     }
 }
 

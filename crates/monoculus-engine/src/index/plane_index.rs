@@ -111,6 +111,11 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         grid.prefetch_isolated(j);
         let (p, q) = (pos[i], pos[j]);
         let blocker = |k: usize| k != i && k != j && blocks(p, pos[k], q, v);
+        if v.fat() {
+            // The grid's walk follows a line, not a fat robot's disc: every robot is
+            // asked (the engine sees fat robots through the R-tree instead).
+            return !(0..pos.len()).any(blocker);
+        }
         !grid.blocked(pos, i, j, v) && !self.stale.iter().any(blocker)
     }
 
@@ -195,14 +200,18 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         out
     }
 
-    /// The angular sweep, O(n log n).
+    /// The angular sweep, O(n log n); for fat robots one line of sight per robot.
     fn visible_points(
         &self,
         pos: &[DVec2],
         v: &VisionParams,
         i: usize,
-        _sees: &dyn Fn(usize) -> bool,
+        sees: &dyn Fn(usize) -> bool,
     ) -> Vec<usize> {
+        if v.fat() {
+            let seen: Vec<usize> = (0..pos.len()).filter(|&j| sees(j)).collect();
+            return monoculus_core::vision::representatives(pos, &seen, v);
+        }
         visible_points_sweep_2d(pos, i, v)
     }
 }

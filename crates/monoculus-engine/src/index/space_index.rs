@@ -45,7 +45,7 @@ impl<P: IndexPoint> SpatialIndex<P> for SpaceIndex<P> {
 
     fn clear(&self, pos: &[P], v: &VisionParams, i: usize, j: usize) -> bool {
         let (p, q) = (pos[i], pos[j]);
-        let tube = Tube::new(p, q, v.eps_ang);
+        let tube = Tube::new(p, q, v.eps_ang, v.robot_radius);
         !self
             .tree(pos)
             .locate_with_selection_function(tube)

@@ -14,15 +14,16 @@ pub struct Tube<P: IndexPoint> {
 }
 
 impl<P: IndexPoint> Tube<P> {
-    /// The tube for the view from `p` to `q` with angular tolerance `eps_ang`.
-    pub fn new(p: P, q: P, eps_ang: f64) -> Self {
+    /// The tube for the view from `p` to `q` with angular tolerance `eps_ang`, around
+    /// robots of radius `radius` (0: points).
+    pub fn new(p: P, q: P, eps_ang: f64, radius: f64) -> Self {
         let len = (q - p).length();
         let scale = (0..P::DIM)
             .map(|a| p.axis(a).abs().max(q.axis(a).abs()))
             .fold(len, f64::max);
         // The cone's widest point is len * sin(eps_ang) from the segment; add room for
         // rounding in the exact test.
-        let tol = len * eps_ang * 1.001 + 16.0 * f64::EPSILON * scale;
+        let tol = len * eps_ang * 1.001 + radius * (1.0 + 1e-9) + 16.0 * f64::EPSILON * scale;
         Tube { p, q, tol }
     }
 

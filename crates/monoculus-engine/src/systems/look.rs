@@ -5,9 +5,14 @@ use crate::IndexPoint;
 use crate::IndexedSight;
 use crate::resources::{Params, Positions, SightBackend, Snapshot, SnapshotSight};
 
-/// A sight over `points` with the configured backend.
+/// A sight over `points` with the configured backend. Fat robots (SPEC 9.3) are seen
+/// through the R-tree in the plane too: its tube queries widen by the radius, while the
+/// band grid's walks and angular sweep are for points.
 pub fn build_sight<P: IndexPoint>(params: &Params, points: Vec<P>) -> SnapshotSight<P> {
     match params.backend {
+        SightBackend::Index if params.vision.fat() => {
+            SnapshotSight::Rtree(IndexedSight::with_index(points, params.vision))
+        }
         SightBackend::Index => SnapshotSight::Index(IndexedSight::new(points, params.vision)),
         SightBackend::Exact => SnapshotSight::Exact(ExactSight::new(points, params.vision)),
         SightBackend::Rtree => {

@@ -270,6 +270,13 @@ pub struct VisionSpec {
     /// Visibility range V (SPEC 9.2; `inf`: unlimited, the default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub range: Option<f64>,
+    /// Fat robots (SPEC 9.3): the radius of every robot's opaque disc (ball). Default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub robot_radius: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Default for VisionSpec {
@@ -280,6 +287,7 @@ impl Default for VisionSpec {
             eps_axis: None,
             backend: SightBackend::Index,
             range: None,
+            robot_radius: 0.0,
         }
     }
 }

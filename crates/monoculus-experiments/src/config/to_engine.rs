@@ -49,6 +49,7 @@ impl Cell {
                 eps_ang: v.eps_ang,
                 eps_axis: v.eps_axis.unwrap_or(defaults.eps_axis),
                 range: v.range.unwrap_or(f64::INFINITY),
+                robot_radius: v.robot_radius,
             },
             backend: v.backend,
             scheduler: match sc.kind {

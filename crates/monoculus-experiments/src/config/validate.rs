@@ -359,6 +359,9 @@ pub(super) fn validate(
             format!("must be positive (inf: unlimited), got {range}"),
         );
     }
+    if let Some(m) = bounded(v.robot_radius, true) {
+        return err("vision.robot_radius", m);
+    }
     let sc = &spec.scheduler;
     let schedule = match (sc.kind, &sc.file) {
         (SchedulerKind::File, None) => {

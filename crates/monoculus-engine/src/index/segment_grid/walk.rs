@@ -50,7 +50,7 @@ impl SegmentGrid {
     #[inline(always)]
     fn walk<P: IndexPoint>(&self, positions: &[P], i: usize, j: usize, v: &VisionParams) -> bool {
         let (p, q) = (positions[i], positions[j]);
-        let tube = Tube::new(p, q, v.eps_ang);
+        let tube = Tube::new(p, q, v.eps_ang, 0.0);
         // Every blocker lies within `tol` of the segment (the blocking cone and room for
         // rounding in the exact test).
         let tol = tube.tolerance();
