@@ -3,6 +3,7 @@
 pub mod algorithms;
 pub mod errors;
 pub mod geometry;
+pub mod impossibility;
 pub mod init;
 pub mod metrics;
 pub mod observe;

@@ -9,8 +9,33 @@
 //!
 //! Text is rendered with the bundled DejaVu Sans font (pure Rust, no system fonts).
 
+// (Before the modules, which use it.)
+/// Draws a figure as `<stem>.png` and `<stem>.svg` in `out`; evaluates to the two paths
+/// or returns the error.
+macro_rules! both {
+    ($out:expr, $stem:expr, $size:expr, |$root:ident| $draw:expr) => {{
+        let stem = $stem;
+        let png = $out.join(format!("{stem}.png"));
+        let svg = $out.join(format!("{stem}.svg"));
+        let fail = |path: &std::path::Path, message: String| crate::PlotError::Draw {
+            path: path.display().to_string(),
+            message,
+        };
+        {
+            let $root = plotters::prelude::BitMapBackend::new(&png, $size).into_drawing_area();
+            $draw.map_err(|m| fail(&png, m))?;
+        }
+        {
+            let $root = plotters::prelude::SVGBackend::new(&svg, $size).into_drawing_area();
+            $draw.map_err(|m| fail(&svg, m))?;
+        }
+        vec![png, svg]
+    }};
+}
+
 mod error;
 mod font;
+mod impossibility;
 mod legend;
 mod replay;
 mod results;
@@ -18,6 +43,7 @@ mod table;
 mod trace;
 
 pub use error::PlotError;
+pub use impossibility::plot_impossibility;
 pub use replay::{replay_html, replay_json, write_replay_gif, write_replay_html};
 pub use results::plot_results;
 pub use trace::plot_trace;

@@ -10,29 +10,6 @@ use plotters::prelude::*;
 use crate::PlotError;
 use crate::table::{Cells, Table};
 
-/// Draws a figure as `<stem>.png` and `<stem>.svg` in `out`; evaluates to the two paths
-/// or returns the error.
-macro_rules! both {
-    ($out:expr, $stem:expr, $size:expr, |$root:ident| $draw:expr) => {{
-        let stem = $stem;
-        let png = $out.join(format!("{stem}.png"));
-        let svg = $out.join(format!("{stem}.svg"));
-        let fail = |path: &Path, message: String| PlotError::Draw {
-            path: path.display().to_string(),
-            message,
-        };
-        {
-            let $root = BitMapBackend::new(&png, $size).into_drawing_area();
-            $draw.map_err(|m| fail(&png, m))?;
-        }
-        {
-            let $root = SVGBackend::new(&svg, $size).into_drawing_area();
-            $draw.map_err(|m| fail(&svg, m))?;
-        }
-        vec![png, svg]
-    }};
-}
-
 /// Figures of the trace CSV `trace` (and of `<stem>.positions.csv` beside it, if
 /// present) written to `out` as PNG and SVG: `<stem>_series` (hull, diameter and moving
 /// robots over rounds) and `<stem>_run` (paths, start and end, initial and final hull;

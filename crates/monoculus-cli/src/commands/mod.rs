@@ -16,6 +16,7 @@ macro_rules! out {
 }
 
 mod check;
+mod impossibility;
 mod look;
 mod merge;
 mod plot;
@@ -51,6 +52,9 @@ enum Command {
     Trace(trace::TraceArgs),
     /// What one robot sees in a configuration, as CSV on stdout.
     Look(look::LookArgs),
+    /// The impossibility construction: two configurations robot 0 cannot tell apart by
+    /// directions, and whether each of its moves leaves the hull of one of them.
+    Impossibility(impossibility::ImpossibilityArgs),
     /// Tables of rho and tau (median [q1, q3]) per cell from results folders.
     Table(table::TableArgs),
     /// Figures (PNG and SVG) from a results folder, or from a trace CSV.
@@ -206,6 +210,7 @@ fn run_command(cli: Cli) -> Result<(), Failure> {
         Command::Check(a) => check::check(a),
         Command::Trace(a) => trace::trace(a),
         Command::Look(a) => look::look(a),
+        Command::Impossibility(a) => impossibility::impossibility(a),
         Command::Table(a) => table::table(a),
         Command::Plot(a) => plot::plot(a),
         Command::Stress(a) => stress::stress(a),
