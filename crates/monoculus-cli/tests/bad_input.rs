@@ -527,16 +527,6 @@ fn bad_fault_keys_are_named() {
         one_line(&e).starts_with("error: bad.toml:17: faults.rule"),
         "{e}"
     );
-    let e = config_error(&format!(
-        "{GOOD}\n[scheduler]\nkind = \"async\"\n\n[faults]\nkind = \"crash\"\ncount = 1\n"
-    ))
-    .0;
-    assert!(
-        one_line(&e).starts_with(
-            "error: bad.toml:18: faults.kind: faulty robots run under the round schedulers"
-        ),
-        "{e}"
-    );
 }
 
 #[test]

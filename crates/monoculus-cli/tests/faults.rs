@@ -69,3 +69,27 @@ fn runs_csv_counts_the_faulty_robots() {
     assert_eq!(csv_rows_without(&a.join("runs.csv"), &drop), zero);
     assert!(header(&a).contains(&"faulty".to_string()));
 }
+
+#[test]
+fn faults_run_under_async_too() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = tmp.path().join("a.toml");
+    std::fs::write(
+        &cfg,
+        format!(
+            "{BASE}\n[scheduler]\nkind = \"async\"\nidle = {{ kind = \"uniform\", min = 1, max = 4 }}\n\n[faults]\nkind = \"crash\"\ncount = 2\nat = 1\n"
+        ),
+    )
+    .unwrap();
+    let out = tmp.path().join("r");
+    ok(&["run", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let mut r = csv::Reader::from_path(out.join("runs.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = h.iter().position(|c| c == "faulty").unwrap();
+    let ticks = h.iter().position(|c| c == "ticks").unwrap();
+    for row in r.records() {
+        let row = row.unwrap();
+        assert_eq!(&row[col], "2");
+        assert!(!row[ticks].is_empty());
+    }
+}

@@ -261,17 +261,81 @@ fn impossible_faults_are_refused() {
             },
             SchedulerSpec::Fsync,
         ),
-        (
-            crash(1, CrashAt::Round(0)),
-            SchedulerSpec::Async(AsyncSpec {
-                idle: TickDist::ONE,
-                compute: TickDist::ONE,
-                motion: TickDist::ONE,
-                start: AsyncStart::Together,
-            }),
-        ),
     ] {
         let cfg = with_faults(AlgorithmKind::ConvergeLocality, scheduler, 1, spec);
         assert!(Simulation::new(cfg, start.clone()).is_err(), "{spec:?}");
     }
+}
+
+/// Under ASYNC with fixed durations and a common start the robots run in lockstep, and
+/// the run is the FSYNC run: with faults too (a crash at epoch k is a crash at round k).
+#[test]
+fn lockstep_async_with_faults_is_fsync_with_faults() {
+    for (k, spec) in [
+        crash(4, CrashAt::Round(0)),
+        crash(4, CrashAt::Round(3)),
+        crash(6, CrashAt::Random { until: 5 }),
+        byzantine(2, ByzantineRule::Away),
+        byzantine(3, ByzantineRule::Random),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        for kind in [
+            AlgorithmKind::ConvergeLocality,
+            AlgorithmKind::ConvergeQuadrant,
+        ] {
+            let mut cfg = with_faults(kind, SchedulerSpec::Fsync, k as u64, spec);
+            cfg.stop.criterion = if kind == AlgorithmKind::ConvergeLocality {
+                StopCriterion::Diameter
+            } else {
+                StopCriterion::Box
+            };
+            cfg.stop.max_rounds = 60;
+            let start = common::square(25, 9.0, k as u64);
+            let mut fsync = Simulation::new(cfg.clone(), start.clone()).unwrap();
+            let f = fsync.run();
+            cfg.scheduler = SchedulerSpec::Async(AsyncSpec {
+                idle: TickDist::Fixed { ticks: 2 },
+                compute: TickDist::Fixed { ticks: 1 },
+                motion: TickDist::Fixed { ticks: 3 },
+                start: AsyncStart::Together,
+            });
+            let mut asim = Simulation::new(cfg, start).unwrap();
+            let mut a = asim.run();
+            a.ticks = None;
+            assert_eq!(f, a, "{} {spec:?}", kind.name());
+            assert_eq!(fsync.positions(), asim.positions());
+        }
+    }
+}
+
+/// Under ASYNC with random durations crashed robots stop from their epoch and nobody
+/// else is held back; the run is seeded.
+#[test]
+fn crashes_under_async_stop_the_robot_and_the_run_is_seeded() {
+    let spec = crash(5, CrashAt::Round(0));
+    let plan = FaultPlan::draw(&spec, 30, 12);
+    let mut cfg = with_faults(
+        AlgorithmKind::ConvergeLocality,
+        SchedulerSpec::Fsync,
+        12,
+        spec,
+    );
+    cfg.scheduler = SchedulerSpec::Async(AsyncSpec {
+        idle: TickDist::Uniform { min: 1, max: 6 },
+        compute: TickDist::Uniform { min: 1, max: 3 },
+        motion: TickDist::Exponential { mean: 3.0 },
+        start: AsyncStart::Random,
+    });
+    cfg.stop.max_rounds = 40;
+    let start = common::square(30, 12.0, 12);
+    let mut sim = Simulation::new(cfg.clone(), start.clone()).unwrap();
+    let out = sim.run();
+    assert_eq!(out.faulty, 5);
+    for i in (0..30).filter(|&i| !plan.is_correct(i)) {
+        assert_eq!(sim.positions()[i], start[i]);
+    }
+    assert!((0..30).any(|i| plan.is_correct(i) && sim.positions()[i] != start[i]));
+    assert_eq!(Simulation::new(cfg, start).unwrap().run(), out);
 }

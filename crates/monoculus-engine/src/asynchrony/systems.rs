@@ -9,6 +9,7 @@ use super::{
     AsyncClock, AsyncSpec, CommittedHull, KeptShape, Phase, RobotEntities, TickDist, Timing,
 };
 use crate::components::{Memory, Robot};
+use crate::faults::Role;
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
 use crate::systems::{build_sight, decide_one, realise};
 use crate::{IndexPoint, SchedulerSpec};
@@ -91,7 +92,9 @@ pub fn finish_moves<P: IndexPoint>(
             .expect("robot entity");
         if timing.phase == Phase::Move && timing.until == t {
             if timing.pending.take().is_some() {
-                committed.remove(positions.points[r as usize]);
+                if params.is_correct(r as usize) {
+                    committed.remove(positions.points[r as usize]);
+                }
                 positions.points[r as usize] = timing.target;
                 kept_shape.arrive(r, timing.target);
                 clock.move_ended = true;
@@ -135,8 +138,11 @@ pub fn finish_computes<P: IndexPoint>(
         timing.pending = d;
         if let Some(d) = d {
             kept_shape.depart(r, position, *timing);
-            tally.moves += 1;
-            tally.distance += d.length();
+            // Moves count the correct robots only (SPEC 9.1).
+            if params.is_correct(r as usize) {
+                tally.moves += 1;
+                tally.distance += d.length();
+            }
             clock.epoch_moves += 1;
         }
         clock.schedule(timing.until, r);
@@ -158,15 +164,23 @@ pub(crate) fn positions_now<P: IndexPoint>(
     pts
 }
 
+/// The lookers' decisions; a robot crashed by `epoch` (SPEC 9.1: at its first Look at or
+/// after its crash epoch) stays, its memory as it was.
 fn decide_all<P: IndexPoint, S: Sight<P>>(
     params: &Params,
     sight: &S,
+    epoch: u64,
     inputs: &[(u32, u64, Option<RobotMemory>)],
 ) -> Vec<(Option<P>, Option<RobotMemory>)> {
     inputs
         .par_iter()
         .with_min_len(16)
         .map(|&(r, cycle, memory)| {
+            if let Some(Role::Crashed { from }) = params.faults.as_ref().map(|f| f.role(r as usize))
+                && epoch >= from
+            {
+                return (None, memory);
+            }
             let mut memory = memory;
             let d = decide_one(params, sight, r as usize, cycle, memory.as_mut())
                 .map(|d| realise(params, r as usize, cycle, d));
@@ -224,10 +238,10 @@ pub fn look<P: IndexPoint>(
             // Built here, its two layouts in parallel, not by the first decision while
             // the other threads wait.
             s.build_index();
-            decide_all(&params, &s, &inputs)
+            decide_all(&params, &s, clock.epochs, &inputs)
         }
-        SnapshotSight::Exact(s) => decide_all(&params, &s, &inputs),
-        SnapshotSight::Rtree(s) => decide_all(&params, &s, &inputs),
+        SnapshotSight::Exact(s) => decide_all(&params, &s, clock.epochs, &inputs),
+        SnapshotSight::Rtree(s) => decide_all(&params, &s, clock.epochs, &inputs),
     };
     for (&r, (d, memory)) in lookers.iter().zip(outputs) {
         let (_, mut timing, stored) = robots
@@ -247,11 +261,16 @@ pub fn look<P: IndexPoint>(
         if let Some(d) = d {
             clock.in_motion += 1;
             clock.move_decided = true;
-            // As `committed_points` lists it.
-            committed.add(positions.points[r as usize] + d);
+            // As `committed_points` lists it (the correct robots' only).
+            if params.is_correct(r as usize) {
+                committed.add(positions.points[r as usize] + d);
+            }
         }
     }
-    tally.activations += lookers.len() as u64;
+    tally.activations += lookers
+        .iter()
+        .filter(|&&r| params.is_correct(r as usize))
+        .count() as u64;
 }
 
 /// The points whose hull Lemma 2 bounds under ASYNC: every robot's position at the
@@ -277,19 +296,27 @@ pub(crate) fn committed_points<P: IndexPoint>(
 /// Account: epochs; the shape whenever a move ended (hull growth counted per tick);
 /// the committed hull whenever a move ended or was decided.
 pub fn account<P: IndexPoint>(
+    params: Res<Params>,
     mut clock: ResMut<AsyncClock>,
     positions: Res<Positions<P>>,
     mut shape: ResMut<Shape>,
     mut tally: ResMut<Tally>,
-    mut kept: ResMut<CommittedHull<P>>,
-    mut kept_shape: ResMut<KeptShape<P>>,
+    (mut kept, mut kept_shape): (ResMut<CommittedHull<P>>, ResMut<KeptShape<P>>),
     robots: Query<(&Robot, &Timing<P>)>,
 ) {
     clock.account();
     let tick = clock.tick;
     let pos = &positions.points;
     let robots = &robots;
-    let all = || committed_points(robots.iter().map(|(r, t)| (pos[r.index as usize], *t)));
+    let params = &params;
+    let all = || {
+        committed_points(
+            robots
+                .iter()
+                .filter(|(r, _)| params.is_correct(r.index as usize))
+                .map(|(r, t)| (pos[r.index as usize], *t)),
+        )
+    };
     let committed_before = kept.last();
     // The two measures are independent: taken at once where a core is free.
     let (committed, measured) = rayon::join(
@@ -312,6 +339,11 @@ pub fn account<P: IndexPoint>(
                         .map(|(r, timing)| (r.index, pos[r.index as usize], *timing))
                 };
                 let now = || positions_now(tick, pos, clocks());
+                if params.faults.is_some() {
+                    // The correct robots' shape, taken afresh (the kept shape follows
+                    // every robot).
+                    return Shape::of(&params.correct(&now()));
+                }
                 let shape = kept_shape.shape(tick, clocks, now);
                 debug_assert_eq!(
                     format!("{shape:?}"),

@@ -51,11 +51,6 @@ pub(super) fn validate<P: IndexPoint>(
         ));
     }
     if let Some(spec) = &config.faults {
-        if matches!(config.scheduler, SchedulerSpec::Async(_)) {
-            return Err(EngineError::Invalid(
-                "faulty robots run under the round schedulers (fsync, ssync, sequential, file), not yet under async".into(),
-            ));
-        }
         match spec.count {
             crate::FaultCount::Robots(f) if f > initial.len() => {
                 return Err(EngineError::Invalid(format!(

@@ -36,7 +36,10 @@ pub(super) fn wire_async<P: IndexPoint>(
         });
     }
     world.insert_resource(clock);
-    world.insert_resource(asynchrony::CommittedHull::new(initial, hull_initial));
+    world.insert_resource(asynchrony::CommittedHull::new(
+        &params.correct(initial),
+        hull_initial,
+    ));
     world.insert_resource(asynchrony::KeptShape::new(initial));
     world.insert_resource(RobotEntities(entities));
     schedule.configure_sets(

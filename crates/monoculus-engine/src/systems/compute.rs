@@ -4,10 +4,10 @@ use monoculus_core::rng::{Purpose, Stream};
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
-use crate::IndexPoint;
 use crate::components::{Activated, Intent, Memory, Robot};
 use crate::faults::{Role, byzantine_move};
 use crate::resources::{Clock, Params, Snapshot, SnapshotSight};
+use crate::{IndexPoint, SchedulerSpec};
 
 /// One robot's decision in `round`: its global displacement or `None`. A crashed robot
 /// stays from its crash round on; a Byzantine robot follows its rule (SPEC 9.1).
@@ -24,7 +24,12 @@ pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized>(
         .map_or(Role::Correct, |f| f.role(robot));
     let stream = || Stream::keyed(params.seed, Purpose::Decide, robot as u64, round);
     match role {
-        Role::Crashed { from } if round >= from => None,
+        // Under ASYNC `round` is the robot's cycle: the Look checks the crash by epoch.
+        Role::Crashed { from }
+            if round >= from && !matches!(params.scheduler, SchedulerSpec::Async(_)) =>
+        {
+            None
+        }
         Role::Byzantine(rule) => byzantine_move(
             rule,
             sight.positions(),

@@ -120,20 +120,9 @@ type Loaded = (
 );
 
 /// `[faults]`: one of count and fraction, at least one robot correct, the keys of the
-/// kind only, and a round scheduler.
-fn validate_faults(
-    f: &FaultsConfig,
-    n: usize,
-    scheduler: SchedulerKind,
-    src: &Source<'_>,
-) -> Result<(), ConfigError> {
+/// kind only.
+fn validate_faults(f: &FaultsConfig, n: usize, src: &Source<'_>) -> Result<(), ConfigError> {
     let err = |key: &str, m: String| Err(src.error(key, m));
-    if scheduler == SchedulerKind::Async {
-        return err(
-            "faults.kind",
-            "faulty robots run under the round schedulers (fsync, ssync, sequential, file), not yet under async".into(),
-        );
-    }
     let faulty = match (f.count, f.fraction) {
         (Some(_), Some(_)) => {
             return err("faults.fraction", "give count or fraction, not both".into());
@@ -404,7 +393,7 @@ pub(super) fn validate(
         let n = file_positions
             .as_ref()
             .map_or(s.n.unwrap_or(0), PositionsFile::len);
-        validate_faults(f, n, sc.kind, src)?;
+        validate_faults(f, n, src)?;
     }
     if sc.kind == SchedulerKind::Adversary {
         if s.dim != 2 {
