@@ -145,6 +145,83 @@ pub fn parse_trace_positions(text: &str, name: &str) -> Result<TracePositions, P
     })
 }
 
+/// A CSV with a header, read from `text` (fields trimmed); `name` labels its errors.
+pub(crate) struct Csv<'a> {
+    name: &'a str,
+    reader: csv::Reader<&'a [u8]>,
+    headers: csv::StringRecord,
+}
+
+impl<'a> Csv<'a> {
+    /// Reads the header.
+    pub(crate) fn new(text: &'a str, name: &'a str) -> Result<Self, PositionsError> {
+        let mut reader = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes());
+        let headers = match reader.headers() {
+            Ok(h) => h.clone(),
+            Err(e) => return Err(parse_error(name, 1, e.to_string())),
+        };
+        Ok(Csv {
+            name,
+            reader,
+            headers,
+        })
+    }
+
+    /// The index of column `c`, if the header names it.
+    pub(crate) fn column(&self, c: &str) -> Option<usize> {
+        self.headers.iter().position(|h| h == c)
+    }
+
+    /// The indices of `columns`, or an error at line 1 naming them all.
+    pub(crate) fn columns<const N: usize>(
+        &self,
+        columns: [&str; N],
+    ) -> Result<[usize; N], PositionsError> {
+        let found: Vec<usize> = columns.iter().filter_map(|c| self.column(c)).collect();
+        found.try_into().map_err(|_| {
+            let plural = if N == 1 { "column" } else { "columns" };
+            self.error(
+                1,
+                format!(
+                    "header must name {plural} {}, got `{}`",
+                    columns.join(" and "),
+                    self.headers.iter().collect::<Vec<_>>().join(",")
+                ),
+            )
+        })
+    }
+
+    /// An error at `line` of this file.
+    pub(crate) fn error(&self, line: usize, message: String) -> PositionsError {
+        parse_error(self.name, line, message)
+    }
+
+    /// The rows with their 1-based lines.
+    pub(crate) fn rows(
+        &mut self,
+    ) -> impl Iterator<Item = Result<(usize, csv::StringRecord), PositionsError>> + '_ {
+        let name = self.name;
+        self.reader.records().map(move |record| {
+            let line_of = |p: Option<&csv::Position>| p.map_or(0, |p| p.line() as usize);
+            match record {
+                Ok(r) => Ok((line_of(r.position()), r)),
+                Err(e) => Err(parse_error(name, line_of(e.position()), e.to_string())),
+            }
+        })
+    }
+}
+
+/// A [`PositionsError::Parse`] at `line` of `name`.
+pub(crate) fn parse_error(name: &str, line: usize, message: String) -> PositionsError {
+    PositionsError::Parse {
+        path: name.to_string(),
+        line,
+        message,
+    }
+}
+
 /// The rows of a positions CSV, and per row the values of the integer columns `ints`
 /// followed by the row's 1-based line.
 fn parse_rows(
@@ -152,51 +229,18 @@ fn parse_rows(
     name: &str,
     ints: &[&str],
 ) -> Result<(PositionsFile, Vec<[u64; 3]>), PositionsError> {
-    let perr = |line: usize, message: String| PositionsError::Parse {
-        path: name.to_string(),
-        line,
-        message,
-    };
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = reader
-        .headers()
-        .map_err(|e| perr(1, e.to_string()))?
-        .clone();
-    let col = |c: &str| headers.iter().position(|h| h == c);
-    let (Some(xi), Some(yi)) = (col("x"), col("y")) else {
-        return Err(perr(
-            1,
-            format!(
-                "header must name columns x and y, got `{}`",
-                headers.iter().collect::<Vec<_>>().join(",")
-            ),
-        ));
-    };
-    let zi = col("z");
+    let perr = |line: usize, message: String| parse_error(name, line, message);
+    let mut csv = Csv::new(text, name)?;
+    let [xi, yi] = csv.columns(["x", "y"])?;
+    let zi = csv.column("z");
     let int_cols: Vec<usize> = ints
         .iter()
-        .map(|c| {
-            col(c).ok_or_else(|| {
-                perr(
-                    1,
-                    format!(
-                        "header must name column {c}, got `{}`",
-                        headers.iter().collect::<Vec<_>>().join(",")
-                    ),
-                )
-            })
-        })
+        .map(|&c| csv.columns([c]).map(|[i]| i))
         .collect::<Result<_, _>>()?;
     let mut keys = Vec::new();
     let mut out = Vec::new();
-    for record in reader.records() {
-        let record = record.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line() as usize);
-            perr(line, e.to_string())
-        })?;
-        let line = record.position().map_or(0, |p| p.line() as usize);
+    for row in csv.rows() {
+        let (line, record) = row?;
         let get = |i: usize, c: &str| -> Result<f64, PositionsError> {
             let field = record.get(i).unwrap_or("");
             let v = field

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use monoculus_engine::{ActivationError, ActivationList};
 
-use crate::positions::PositionsError;
+use crate::positions::{Csv, PositionsError, parse_error};
 
 /// A schedule read from a file, with where its largest robot index was written (so that
 /// a swarm too small for it is reported at that line).
@@ -44,37 +44,14 @@ pub fn read_schedule(path: &Path) -> Result<ScheduleFile, PositionsError> {
 
 /// Parses a schedule CSV from text; `name` labels errors.
 pub fn parse_schedule(text: &str, name: &str) -> Result<ScheduleFile, PositionsError> {
-    let perr = |line: usize, message: String| PositionsError::Parse {
-        path: name.to_string(),
-        line,
-        message,
-    };
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = reader
-        .headers()
-        .map_err(|e| perr(1, e.to_string()))?
-        .clone();
-    let col = |c: &str| headers.iter().position(|h| h == c);
-    let (Some(ri), Some(bi)) = (col("round"), col("robot")) else {
-        return Err(perr(
-            1,
-            format!(
-                "header must name columns round and robot, got `{}`",
-                headers.iter().collect::<Vec<_>>().join(",")
-            ),
-        ));
-    };
+    let mut csv = Csv::new(text, name)?;
+    let [ri, bi] = csv.columns(["round", "robot"])?;
+    let perr = |line: usize, message: String| parse_error(name, line, message);
     let mut rounds: Vec<(u64, Vec<u32>)> = Vec::new();
     let mut in_round = std::collections::HashSet::new();
     let mut max_robot: Option<(u32, usize)> = None;
-    for record in reader.records() {
-        let record = record.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line() as usize);
-            perr(line, e.to_string())
-        })?;
-        let line = record.position().map_or(0, |p| p.line() as usize);
+    for row in csv.rows() {
+        let (line, record) = row?;
         let field = |i: usize| record.get(i).unwrap_or("");
         let round: u64 = field(ri).parse().map_err(|_| {
             perr(
