@@ -366,3 +366,86 @@ fn fat_robots_are_seen_as_the_definition_says() {
         }
     }
 }
+
+/// A followed sight (the one ASYNC Looks use) moved robot by robot along segments, as
+/// robots in mid-move are: its answers stay the definition's when the grid is kept with
+/// every robot near its grid point (small steps: the queries widen by the drift), with
+/// robots moved farther (stale: onto others, between two others, back), and after the
+/// index is made again (a robot out of the grid's box).
+#[test]
+fn a_followed_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
+    use glam::DVec2;
+    use monoculus_engine::IndexedSight;
+    let v = VisionParams::default();
+    for seed in 0..2 {
+        for (name, mut pts) in common::zoo(seed) {
+            let n = pts.len();
+            let mut sight = IndexedSight::following(pts.clone(), v);
+            sight.build_index();
+            let targets: Vec<DVec2> = (0..n).map(|k| pts[(k * 7 + 3) % n]).collect();
+            let starts = pts.clone();
+            // A thousandth of the swarm's extent: within the drift a grid allows (a
+            // tenth of a cell, and cells are at least extent / (2 sqrt n) wide).
+            let (lo, hi) = monoculus_core::metrics::bounds(&pts);
+            let unit = 1e-3 * (hi - lo).max_element();
+            // Small steps: a third of the robots, a little farther along their segment
+            // each time, and every fifth one a hair across its line and back.
+            for step in 1..=3 {
+                let mut changes = Vec::new();
+                for k in (0..n).filter(|k| k % 3 == 0) {
+                    let (from, to) = (starts[k], targets[k]);
+                    let length = (to - from).length().max(1e-300);
+                    let f = (unit * step as f64 / length).min(1.0);
+                    let mut p = from + (to - from) * f;
+                    if k % 5 == 0 && step == 2 {
+                        p += DVec2::new(-(to - from).y, (to - from).x) * 1e-13;
+                    }
+                    changes.push((k as u32, p));
+                }
+                for &(k, p) in &changes {
+                    pts[k as usize] = p;
+                }
+                // A step off a line leaves the (flat) box of the grid: made again.
+                let inside = changes
+                    .iter()
+                    .all(|&(_, p)| p.cmpge(lo).all() && p.cmple(hi).all());
+                let kept = sight.advance(changes.into_iter());
+                assert_eq!(
+                    kept, inside,
+                    "{name}: the grid is kept unless a robot left it"
+                );
+                assert_eq!(sight.stale_robots(), 0, "{name}: small steps, none stale");
+                agrees_with_the_definition(
+                    &format!("{name} seed {seed} small step {step}"),
+                    &sight,
+                    &pts,
+                );
+            }
+            // Moves onto others and between others: stale, tested one by one.
+            for (generation, step) in [[(1, 2, 2), (3, 4, 5)], [(3, 3, 3), (7, 8, 8)]]
+                .iter()
+                .enumerate()
+            {
+                let changes: Vec<(u32, DVec2)> = step
+                    .iter()
+                    .map(|&(k, a, b)| (k as u32, (pts[a] + pts[b]) * 0.5))
+                    .collect();
+                for &(k, p) in &changes {
+                    pts[k as usize] = p;
+                }
+                sight.advance(changes.into_iter());
+                agrees_with_the_definition(
+                    &format!("{name} seed {seed} far move {generation}"),
+                    &sight,
+                    &pts,
+                );
+            }
+            pts[0] += DVec2::splat(100.0);
+            assert!(
+                !sight.advance([(0, pts[0])].into_iter()),
+                "{name}: out of the box, made again"
+            );
+            agrees_with_the_definition(&format!("{name} seed {seed} made again"), &sight, &pts);
+        }
+    }
+}

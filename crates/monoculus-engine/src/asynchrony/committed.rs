@@ -2,6 +2,7 @@
 
 use bevy_ecs::prelude::*;
 
+use super::shape::{in_disc, inner_disc};
 use crate::IndexPoint;
 
 /// The hull of the committed points (every robot's position at the start of its phase
@@ -22,6 +23,8 @@ pub struct CommittedHull<P: IndexPoint> {
     measure: f64,
     /// Whether `vertices` is a polygon the exact inside test works on.
     kept: bool,
+    /// A disc inside it: the cheap first test.
+    disc: (P, f64),
     added: Vec<P>,
     removed: Vec<P>,
 }
@@ -32,6 +35,7 @@ impl<P: IndexPoint> CommittedHull<P> {
         let vertices = P::hull_vertices(initial);
         CommittedHull {
             kept: vertices.len() >= 3,
+            disc: inner_disc(&vertices),
             vertices,
             measure,
             added: Vec::new(),
@@ -57,7 +61,8 @@ impl<P: IndexPoint> CommittedHull<P> {
     /// The measure of the hull after this tick's events; `all` lists every committed
     /// point, asked for only when the hull must be taken over all of them.
     pub fn measure(&mut self, all: impl FnOnce() -> Vec<P>) -> f64 {
-        let inside = |hull: &[P], p: &P| P::strictly_inside(hull, *p);
+        let disc = self.disc;
+        let inside = |hull: &[P], p: &P| in_disc(disc, *p) || P::strictly_inside(hull, *p);
         if self.kept && self.removed.iter().all(|p| inside(&self.vertices, p)) {
             let outside: Vec<P> = self
                 .added
@@ -71,12 +76,14 @@ impl<P: IndexPoint> CommittedHull<P> {
                 self.vertices = P::hull_vertices(&points);
                 self.measure = P::hull_measure(&self.vertices);
                 self.kept = self.vertices.len() >= 3;
+                // The hull grew: the old disc is still inside it.
             }
         } else {
             let points = all();
             self.measure = P::hull_measure(&points);
             self.vertices = P::hull_vertices(&points);
             self.kept = self.vertices.len() >= 3;
+            self.disc = inner_disc(&self.vertices);
         }
         self.added.clear();
         self.removed.clear();

@@ -44,9 +44,16 @@ impl<P: IndexPoint> Timing<P> {
         if self.phase != Phase::Move || self.pending.is_none() || self.until <= self.since {
             return from;
         }
-        let f = (tick.min(self.until) - self.since) as f64 / (self.until - self.since) as f64;
-        from + (self.target - from) * f
+        interpolate(from, self.target, self.since, self.until, tick)
     }
+}
+
+/// Where a move from `from` to `to` over the ticks `since..until` (`since < until`) is
+/// at `tick` (at or after `since`).
+#[inline]
+pub(crate) fn interpolate<P: IndexPoint>(from: P, to: P, since: u64, until: u64, tick: u64) -> P {
+    let f = (tick.min(until) - since) as f64 / (until - since) as f64;
+    from + (to - from) * f
 }
 
 /// The ASYNC clock, the agenda of phase ends, and epoch accounting.

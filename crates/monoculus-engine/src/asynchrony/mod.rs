@@ -7,12 +7,14 @@
 mod committed;
 mod components;
 mod shape;
+mod sight;
 mod spec;
 mod systems;
 
 pub use committed::CommittedHull;
 pub use components::{AsyncClock, Phase, RobotEntities, Timing};
 pub use shape::KeptShape;
+pub use sight::LookSight;
 pub use spec::{AsyncSpec, AsyncStart, TickDist};
 pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};
 pub(crate) use systems::{START, duration, positions_now};

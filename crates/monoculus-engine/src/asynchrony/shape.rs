@@ -38,10 +38,14 @@ pub struct KeptShape<P: IndexPoint> {
     /// must be taken again within a few ticks (short cycles), keeping it costs more
     /// than it saves.
     plain: u32,
+    /// Hulls at rest in a row that lasted fewer than [`SHORT_LIVED`] shapes.
+    short: u32,
 }
 
-/// A hull at rest that lasts fewer shapes than this...
+/// A hull at rest that lasts fewer shapes than this, [`STRIKES`] times in a row...
 const SHORT_LIVED: u32 = 4;
+/// (once is chance: a fine time resolution with two vertices leaving close together)...
+const STRIKES: u32 = 3;
 /// ...makes this many shapes be taken over all robots before trying again.
 const PLAIN: u32 = 64;
 
@@ -60,13 +64,14 @@ impl<P: IndexPoint> KeptShape<P> {
             slot: vec![ABSENT; initial.len()],
             since_rebuild: 0,
             plain: 0,
+            short: 0,
         }
     }
 
     /// Whether the whole segment of a mover, and every point within the rounding of
     /// an interpolation along it, lies strictly inside the hull at rest: the corners of
     /// the boxes of that size around both ends are.
-    fn certainly_inside(&self, from: P, to: P, exact: bool) -> bool {
+    fn certainly_inside(&self, from: P, to: P) -> bool {
         let scale = (0..P::DIM)
             .map(|a| from.axis(a).abs().max(to.axis(a).abs()))
             .fold(0.0, f64::max);
@@ -77,22 +82,22 @@ impl<P: IndexPoint> KeptShape<P> {
         if [from, to].iter().all(|&p| (p - centre).length() < room) {
             return true;
         }
-        exact
-            && [from, to].into_iter().all(|p| {
-                (0..1usize << P::DIM).all(|corner| {
-                    let q = (0..P::DIM).fold(p, |q, a| {
-                        let sign = if corner >> a & 1 == 1 { e } else { -e };
-                        q + P::unit_axis(a) * sign
-                    });
-                    P::strictly_inside(&self.rest, q)
-                })
+        [from, to].into_iter().all(|p| {
+            (0..1usize << P::DIM).all(|corner| {
+                let q = (0..P::DIM).fold(p, |q, a| {
+                    let sign = if corner >> a & 1 == 1 { e } else { -e };
+                    q + P::unit_axis(a) * sign
+                });
+                P::strictly_inside(&self.rest, q)
             })
+        })
     }
 
     /// Keeps a mover among those that may leave the hull at rest unless it certainly
-    /// does not (`exact`: also by the exact test of its ends, else the disc only).
-    fn track(&mut self, robot: u32, from: P, timing: Timing<P>, exact: bool) {
-        if self.certainly_inside(from, timing.target, exact) {
+    /// does not (by the disc, then by the exact test of its ends: the disc alone left
+    /// a third of the movers of fine-grained runs to be taken at every tick).
+    fn track(&mut self, robot: u32, from: P, timing: Timing<P>) {
+        if self.certainly_inside(from, timing.target) {
             return;
         }
         // A robot departs only once its last move ended, which untracked it.
@@ -120,7 +125,7 @@ impl<P: IndexPoint> KeptShape<P> {
             self.stale = true;
             return;
         }
-        self.track(robot, from, timing, true);
+        self.track(robot, from, timing);
     }
 
     /// Robot `robot` ended its move at `at`, and is at rest there.
@@ -152,7 +157,15 @@ impl<P: IndexPoint> KeptShape<P> {
             self.plain -= 1;
             return Shape::of(&all());
         }
-        if self.stale && self.since_rebuild < SHORT_LIVED {
+        if self.stale {
+            self.short = if self.since_rebuild < SHORT_LIVED {
+                self.short + 1
+            } else {
+                0
+            };
+        }
+        if self.stale && self.short >= STRIKES {
+            self.short = 0;
             self.kept = false;
             self.plain = PLAIN;
             // Taken again over all robots once the plain shapes are done.
@@ -200,7 +213,7 @@ impl<P: IndexPoint> KeptShape<P> {
         self.outside.clear();
         if self.kept {
             for (robot, from, timing) in movers {
-                self.track(robot, from, timing, false);
+                self.track(robot, from, timing);
             }
         }
     }
@@ -209,7 +222,7 @@ impl<P: IndexPoint> KeptShape<P> {
 /// A disc inside the convex polygon `hull` (counter-clockwise, at least three
 /// vertices; else an empty disc): around the mean of the vertices, with the smallest
 /// distance from it to an edge's line, shrunk by a millionth for rounding.
-fn inner_disc<P: IndexPoint>(hull: &[P]) -> (P, f64) {
+pub(crate) fn inner_disc<P: IndexPoint>(hull: &[P]) -> (P, f64) {
     if hull.len() < 3 || P::DIM != 2 {
         return (P::zero(), f64::NEG_INFINITY);
     }
@@ -230,4 +243,14 @@ fn inner_disc<P: IndexPoint>(hull: &[P]) -> (P, f64) {
             f64::NEG_INFINITY
         },
     )
+}
+
+/// Whether `p` is certainly strictly inside the polygon whose [`inner_disc`] is `disc`:
+/// well inside the disc, with room for rounding.
+pub(crate) fn in_disc<P: IndexPoint>((centre, radius): (P, f64), p: P) -> bool {
+    let scale = (0..P::DIM)
+        .map(|a| p.axis(a).abs().max(centre.axis(a).abs()))
+        .fold(0.0, f64::max);
+    let room = radius - 16.0 * f64::EPSILON * scale - 1e-9 * (scale + radius);
+    (p - centre).length() < room
 }

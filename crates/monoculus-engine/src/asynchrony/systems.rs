@@ -6,12 +6,13 @@ use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
 use super::{
-    AsyncClock, AsyncSpec, CommittedHull, KeptShape, Phase, RobotEntities, TickDist, Timing,
+    AsyncClock, AsyncSpec, CommittedHull, KeptShape, LookSight, Phase, RobotEntities, TickDist,
+    Timing,
 };
 use crate::components::{Memory, Robot};
 use crate::faults::Role;
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
-use crate::systems::{build_sight, decide_one, realise};
+use crate::systems::{decide_one, realise};
 use crate::{IndexPoint, SchedulerSpec};
 
 /// The phases of one event tick, run in this order.
@@ -81,7 +82,7 @@ pub fn finish_moves<P: IndexPoint>(
     entities: Res<RobotEntities>,
     mut positions: ResMut<Positions<P>>,
     mut committed: ResMut<CommittedHull<P>>,
-    mut kept_shape: ResMut<KeptShape<P>>,
+    (mut kept_shape, mut sight): (ResMut<KeptShape<P>>, ResMut<LookSight<P>>),
     mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
@@ -97,6 +98,7 @@ pub fn finish_moves<P: IndexPoint>(
                 }
                 positions.points[r as usize] = timing.target;
                 kept_shape.arrive(r, timing.target);
+                sight.arrive(r);
                 clock.move_ended = true;
                 clock.in_motion -= 1;
             }
@@ -115,7 +117,7 @@ pub fn finish_computes<P: IndexPoint>(
     entities: Res<RobotEntities>,
     mut tally: ResMut<Tally>,
     positions: Res<Positions<P>>,
-    mut kept_shape: ResMut<KeptShape<P>>,
+    (mut kept_shape, mut sight): (ResMut<KeptShape<P>>, ResMut<LookSight<P>>),
     mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
@@ -138,6 +140,7 @@ pub fn finish_computes<P: IndexPoint>(
         timing.pending = d;
         if let Some(d) = d {
             kept_shape.depart(r, position, *timing);
+            sight.depart(r, position, *timing);
             // Moves count the correct robots only (SPEC 9.1).
             if params.is_correct(r as usize) {
                 tally.moves += 1;
@@ -203,7 +206,7 @@ pub fn look<P: IndexPoint>(
     entities: Res<RobotEntities>,
     positions: Res<Positions<P>>,
     mut tally: ResMut<Tally>,
-    mut committed: ResMut<CommittedHull<P>>,
+    (mut committed, mut sight): (ResMut<CommittedHull<P>>, ResMut<LookSight<P>>),
     mut robots: Query<LookerData<P>>,
 ) {
     let t = clock.tick;
@@ -219,13 +222,6 @@ pub fn look<P: IndexPoint>(
     if lookers.is_empty() {
         return;
     }
-    let now = positions_now(
-        t,
-        &positions.points,
-        robots
-            .iter()
-            .map(|(r, timing, _)| (r.index, positions.points[r.index as usize], *timing)),
-    );
     let inputs: Vec<(u32, u64, Option<RobotMemory>)> = lookers
         .iter()
         .map(|&r| {
@@ -233,15 +229,15 @@ pub fn look<P: IndexPoint>(
             (r, timing.cycle, memory.map(|m| m.0))
         })
         .collect();
-    let outputs = match build_sight(&params, now) {
+    let outputs = match sight.at(&params, t, &positions.points) {
         SnapshotSight::Index(s) => {
-            // Built here, its two layouts in parallel, not by the first decision while
-            // the other threads wait.
+            // Built here (if it must be), its two layouts in parallel, not by the first
+            // decision while the other threads wait.
             s.build_index();
-            decide_all(&params, &s, clock.epochs, &inputs)
+            decide_all(&params, s, clock.epochs, &inputs)
         }
-        SnapshotSight::Exact(s) => decide_all(&params, &s, clock.epochs, &inputs),
-        SnapshotSight::Rtree(s) => decide_all(&params, &s, clock.epochs, &inputs),
+        SnapshotSight::Exact(s) => decide_all(&params, s, clock.epochs, &inputs),
+        SnapshotSight::Rtree(s) => decide_all(&params, s, clock.epochs, &inputs),
     };
     for (&r, (d, memory)) in lookers.iter().zip(outputs) {
         let (_, mut timing, stored) = robots

@@ -31,7 +31,8 @@ pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::I
     /// Hull vertices (plane), for farthest-robot questions (built on first use).
     hull: OnceLock<Vec<P>>,
     vision: VisionParams,
-    bounds: (P, P),
+    /// The bounding box (computed on first use).
+    bounds: OnceLock<(P, P)>,
 }
 
 impl<P: IndexPoint> IndexedSight<P> {
@@ -45,7 +46,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
     /// A sight over `positions` with the index `I`, built when first needed.
     pub fn with_index(positions: Vec<P>, vision: VisionParams) -> Self {
         IndexedSight {
-            bounds: bounds(&positions),
+            bounds: OnceLock::new(),
             index: I::new(&positions),
             positions,
             hull: OnceLock::new(),
@@ -65,12 +66,38 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
             previous.vision == vision,
         );
         IndexedSight {
-            bounds: bounds(&positions),
+            bounds: OnceLock::new(),
             index,
             positions,
             hull: OnceLock::new(),
             vision,
         }
+    }
+
+    /// A sight over `positions` whose index [follows](Self::advance) the robots as they
+    /// move (the band grid in the plane; other indices are made again).
+    pub fn following(positions: Vec<P>, vision: VisionParams) -> Self {
+        IndexedSight {
+            bounds: OnceLock::new(),
+            index: I::following(&positions),
+            positions,
+            hull: OnceLock::new(),
+            vision,
+        }
+    }
+
+    /// Robots moved: each `(k, p)` puts robot k at p. The index follows them if it can
+    /// (see [`SpatialIndex::follow`]), else a new one is made over the new positions;
+    /// every answer is that of a sight made afresh over them (tested). Returns whether
+    /// the index was kept.
+    pub fn advance(&mut self, changes: impl Iterator<Item = (u32, P)>) -> bool {
+        self.bounds = OnceLock::new();
+        self.hull = OnceLock::new();
+        let kept = self.index.follow(&mut self.positions, changes);
+        if !kept {
+            self.index = I::following(&self.positions);
+        }
+        kept
     }
 
     /// Builds the index now (else it is built by the first query that needs it).
@@ -99,7 +126,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
     }
 
     fn bounds(&self) -> (P, P) {
-        self.bounds
+        *self.bounds.get_or_init(|| bounds(&self.positions))
     }
 
     fn sees(&self, i: usize, j: usize) -> bool {

@@ -1,5 +1,6 @@
 //! [`PlaneIndex`]: the band grid, for d = 2, kept across snapshots in which few robots
-//! moved (those are [`Stale`]: skipped in its cells and tested one by one).
+//! moved (those are [`Stale`]: skipped in its cells and tested one by one), or, under
+//! ASYNC, [followed](SpatialIndex::follow) as robots move a little at every tick.
 
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -7,7 +8,7 @@ use std::sync::atomic::{AtomicU8, Ordering};
 use glam::DVec2;
 use monoculus_core::vision::{VisionParams, blocks, visible_points_sweep_2d};
 
-use super::{SegmentGrid, SpatialIndex, Stale, prefetch};
+use super::{SegmentGrid, SpatialIndex, Stale, Tube, prefetch};
 
 /// The band grid over a snapshot in the plane.
 pub struct PlaneIndex {
@@ -17,13 +18,64 @@ pub struct PlaneIndex {
     stale: Stale,
     /// Per robot, whether no other robot was within `eps_pos` of it where `grid` was
     /// built: 0 not asked yet, 1 yes, 2 no or unsure. Filled in as asked, by any thread
-    /// (the answer does not depend on who asks).
+    /// (the answer does not depend on who asks). Within `eps_pos` plus twice the
+    /// drift limit of a followed index.
     isolated: OnceLock<Box<[AtomicU8]>>,
+    /// Set for an index that follows moving robots.
+    follow: Option<Follow>,
 }
+
+/// What a followed index knows of how far robots are from the points of its grid.
+///
+/// Every robot not stale is within `drift` of the point `base` holds for it, the
+/// point the grid was built over, and `drift` never exceeds `limit`, a quarter of a
+/// cell: a robot that moves farther becomes stale. Each query widens by `drift` what it
+/// takes from the cells (the walk's tube, a radius, the reach of the rings of cells)
+/// and ends in the same exact test on the current positions, so its answer is that of
+/// a grid built afresh (tested with robots in mid-move).
+#[derive(Debug)]
+struct Follow {
+    /// The positions the grid was built over (set when it is).
+    base: OnceLock<Vec<DVec2>>,
+    /// The largest squared distance of a robot not stale from its point in `base`, as
+    /// computed.
+    drift2: f64,
+    /// Its root, rounded up: within it of the true distance.
+    drift: f64,
+}
+
+/// The farthest a followed robot may be from its grid point before it is stale, in
+/// cells.
+const DRIFT_LIMIT: f64 = 0.1;
 
 impl PlaneIndex {
     fn grid(&self, pos: &[DVec2]) -> &SegmentGrid {
-        self.grid.get_or_init(|| Box::new(SegmentGrid::new(pos)))
+        self.grid.get_or_init(|| Box::new(self.make(pos, false)))
+    }
+
+    fn make(&self, pos: &[DVec2], parallel: bool) -> SegmentGrid {
+        if let Some(f) = &self.follow {
+            // A new grid is built only where nothing moved since the index was made.
+            let _ = f.base.set(pos.to_vec());
+        }
+        if parallel {
+            SegmentGrid::new_parallel(pos)
+        } else {
+            SegmentGrid::new(pos)
+        }
+    }
+
+    /// How far a robot not stale may be from its grid point.
+    fn drift(&self) -> f64 {
+        self.follow.as_ref().map_or(0.0, |f| f.drift)
+    }
+
+    /// The radius within which `isolated` tells other robots apart.
+    fn isolation_radius(&self, grid: &SegmentGrid, v: &VisionParams) -> f64 {
+        match self.follow {
+            Some(_) => v.eps_pos + 2.0 * DRIFT_LIMIT * grid.cell_size(),
+            None => v.eps_pos,
+        }
     }
 
     /// Whether no robot other than `k` was within `eps_pos` of it where the grid was
@@ -36,7 +88,8 @@ impl PlaneIndex {
         });
         match known[k].load(Ordering::Relaxed) {
             0 => {
-                let yes = self.grid(pos).isolated(k, v.eps_pos);
+                let grid = self.grid(pos);
+                let yes = grid.isolated(k, self.isolation_radius(grid, v));
                 known[k].store(if yes { 1 } else { 2 }, Ordering::Relaxed);
                 yes
             }
@@ -51,6 +104,18 @@ impl SpatialIndex<DVec2> for PlaneIndex {
             grid: OnceLock::new(),
             stale: Stale::none(positions.len()),
             isolated: OnceLock::new(),
+            follow: None,
+        }
+    }
+
+    fn following(positions: &[DVec2]) -> Self {
+        PlaneIndex {
+            follow: Some(Follow {
+                base: OnceLock::new(),
+                drift2: 0.0,
+                drift: 0.0,
+            }),
+            ..Self::new(positions)
         }
     }
 
@@ -59,7 +124,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
     fn after(previous: Self, before: &[DVec2], now: &[DVec2], same_vision: bool) -> Self {
         let fresh = || Self::new(now);
         let n = now.len();
-        if before.len() != n {
+        if before.len() != n || previous.follow.is_some() {
             return fresh();
         }
         let Some(grid) = previous.grid.into_inner() else {
@@ -87,14 +152,51 @@ impl SpatialIndex<DVec2> for PlaneIndex {
             } else {
                 OnceLock::new()
             },
+            follow: None,
         }
+    }
+
+    /// A robot that stays within a quarter of a cell of its grid point widens the drift
+    /// every query allows for; one that goes farther is stale. `false` (make a new
+    /// index) where more than n / 64 robots (at least 8) are stale or one left the grid's
+    /// box.
+    fn follow(&mut self, pos: &mut [DVec2], changes: impl Iterator<Item = (u32, DVec2)>) -> bool {
+        let (Some(f), Some(grid)) = (self.follow.as_mut(), self.grid.get()) else {
+            for (k, p) in changes {
+                pos[k as usize] = p;
+            }
+            // A followed grid not built yet will be, over the positions of its first
+            // query.
+            return self.follow.is_some();
+        };
+        let base = f.base.get().expect("a followed grid records its points");
+        let limit = DRIFT_LIMIT * grid.cell_size();
+        let (limit2, mut drift2) = (limit * limit, f.drift2);
+        let mut inside = true;
+        for (k, p) in changes {
+            let k = k as usize;
+            if pos[k] == p {
+                continue;
+            }
+            pos[k] = p;
+            inside &= grid.covers(p.x, p.y);
+            let d2 = (p - base[k]).length_squared();
+            if d2 <= limit2 {
+                drift2 = drift2.max(d2);
+            } else {
+                self.stale.insert(k);
+            }
+        }
+        // Rounded up: the distance computed is within a few ulps of the true one.
+        f.drift2 = drift2;
+        f.drift = drift2.sqrt() * (1.0 + 1e-12) + f64::MIN_POSITIVE;
+        inside && self.stale.len() <= (pos.len() / 64).max(8)
     }
 
     /// Builds the grid, both layouts at once (ASYNC builds a grid at every tick with
     /// Looks, between parallel decisions).
     fn build(&self, pos: &[DVec2]) {
-        self.grid
-            .get_or_init(|| Box::new(SegmentGrid::new_parallel(pos)));
+        self.grid.get_or_init(|| Box::new(self.make(pos, true)));
     }
 
     fn stale_robots(&self) -> usize {
@@ -116,7 +218,17 @@ impl SpatialIndex<DVec2> for PlaneIndex {
             // asked (the engine sees fat robots through the R-tree instead).
             return !(0..pos.len()).any(blocker);
         }
-        !grid.blocked(pos, i, j, v) && !self.stale.iter().any(blocker)
+        if grid.blocked(pos, i, j, v, self.drift()) {
+            return false;
+        }
+        // A blocker lies within the tube's tolerance of the segment: a stale robot
+        // farther from its line (with twice the room, for rounding) is not asked.
+        let (d, tol) = (q - p, Tube::new(p, q, v.eps_ang, 0.0).tolerance());
+        let reach = 2.0 * tol * d.length();
+        !self
+            .stale
+            .iter()
+            .any(|k| (pos[k] - p).perp_dot(d).abs() <= reach && blocker(k))
     }
 
     fn for_each_within(&self, pos: &[DVec2], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
@@ -127,14 +239,17 @@ impl SpatialIndex<DVec2> for PlaneIndex {
                 f(k);
             }
         };
+        let radius_cells = radius + self.drift();
         if self.stale.is_empty() {
-            self.grid(pos).for_each_near(p.x, p.y, radius, &mut test);
+            self.grid(pos)
+                .for_each_near(p.x, p.y, radius_cells, &mut test);
         } else {
-            self.grid(pos).for_each_near(p.x, p.y, radius, &mut |k| {
-                if !self.stale.contains(k) {
-                    test(k)
-                }
-            });
+            self.grid(pos)
+                .for_each_near(p.x, p.y, radius_cells, &mut |k| {
+                    if !self.stale.contains(k) {
+                        test(k)
+                    }
+                });
             self.stale.iter().for_each(test);
         }
     }
@@ -144,15 +259,19 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         pos: &'a [DVec2],
         i: usize,
     ) -> Box<dyn Iterator<Item = usize> + 'a> {
-        Box::new(self.grid(pos).nearest_first(pos, i, &self.stale))
+        Box::new(
+            self.grid(pos)
+                .nearest_first(pos, i, &self.stale, self.drift()),
+        )
     }
 
     fn for_each_beyond(&self, pos: &[DVec2], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
         let grid = self.grid(pos);
+        let drift = self.drift();
         if self.stale.is_empty() {
-            return grid.for_each_beyond(pos, i, radius, f);
+            return grid.for_each_beyond(pos, i, radius, drift, f);
         }
-        grid.for_each_beyond(pos, i, radius, &mut |k| {
+        grid.for_each_beyond(pos, i, radius, drift, &mut |k| {
             if !self.stale.contains(k) {
                 f(k)
             }

@@ -16,6 +16,23 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// (`before`): it may keep what `previous` built where few robots moved.
     fn after(previous: Self, before: &[P], now: &[P], same_vision: bool) -> Self;
 
+    /// An index over `positions` that may [follow](SpatialIndex::follow) them as robots
+    /// move (by default, one that cannot).
+    fn following(positions: &[P]) -> Self {
+        Self::new(positions)
+    }
+
+    /// Robots move: each `(k, p)` puts robot k at p in `pos`, the positions the index
+    /// was made for. Returns whether the index answers for the new `pos` (else make a
+    /// new one); answers after a follow are those of an index made afresh (by
+    /// default it cannot follow).
+    fn follow(&mut self, pos: &mut [P], changes: impl Iterator<Item = (u32, P)>) -> bool {
+        for (k, p) in changes {
+            pos[k as usize] = p;
+        }
+        false
+    }
+
     /// Builds what is built on first use (a no-op for an index built at once), outside
     /// any parallel section: queries inside one would wait for whichever thread
     /// builds it.

@@ -41,6 +41,7 @@ pub(super) fn wire_async<P: IndexPoint>(
         hull_initial,
     ));
     world.insert_resource(asynchrony::KeptShape::new(initial));
+    world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
     world.insert_resource(RobotEntities(entities));
     schedule.configure_sets(
         (

@@ -7,11 +7,13 @@ use super::SegmentGrid;
 impl SegmentGrid {
     /// Calls `f` with every robot farther than `radius` from robot `i`: per band, the
     /// cells wholly within the disc are skipped. O(bands + robots beyond + boundary).
+    /// Every robot is within `drift` of the point the grid was built over.
     pub fn for_each_beyond<P: Point>(
         &self,
         positions: &[P],
         i: usize,
         radius: f64,
+        drift: f64,
         f: &mut dyn FnMut(usize),
     ) {
         let p = positions[i];
@@ -19,6 +21,8 @@ impl SegmentGrid {
         let g = &self.rows;
         // Room for the rounding of cell edges and of robots' cells.
         let room = 1e-9 * (x.abs() + y.abs() + self.spacing);
+        // A robot whose grid point is within `inside` of p is within `radius` of it.
+        let inside = radius - drift;
         let mut emit = |range: std::ops::Range<usize>| {
             for s in range {
                 let k = g.items[s] as usize;
@@ -31,8 +35,8 @@ impl SegmentGrid {
             let (_, y0) = g.corner(0, r);
             let dy = (y - y0).abs().max((y0 + g.height - y).abs()) + room;
             // The band's robots within `inner` of x on the run axis are within the disc.
-            let inner = if dy < radius {
-                (radius * radius - dy * dy).sqrt() * (1.0 - 1e-9) - room
+            let inner = if dy < inside {
+                (inside * inside - dy * dy).sqrt() * (1.0 - 1e-9) - room
             } else {
                 -1.0
             };

@@ -9,12 +9,14 @@ impl SegmentGrid {
     /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
     /// around its cell, each robot given out once no unvisited cell can hold a nearer
     /// one. O(k log k) for the first k. The `stale` robots are skipped in the cells
-    /// and queued at once from their current positions.
+    /// and queued at once from their current positions; every other robot is within
+    /// `drift` of the point the grid was built over.
     pub fn nearest_first<'a, P: Point>(
         &'a self,
         positions: &'a [P],
         i: usize,
         stale: &'a Stale,
+        drift: f64,
     ) -> impl Iterator<Item = usize> + 'a {
         let p = positions[i];
         let g = &self.rows;
@@ -34,6 +36,7 @@ impl SegmentGrid {
             exhausted: false,
             heap,
             stale,
+            drift,
         }
     }
 }
@@ -56,6 +59,8 @@ pub(super) struct Nearest<'a, P: Point> {
     pub(super) heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>>,
     /// Robots whose cells are out of date (queued from the start).
     pub(super) stale: &'a Stale,
+    /// How far the others may be from their cells' points.
+    pub(super) drift: f64,
 }
 
 impl<P: Point> Nearest<'_, P> {
@@ -102,7 +107,7 @@ impl<P: Point> Nearest<'_, P> {
             .min(gap(r > k, y - lo_y))
             .min(gap(r + k + 1 < g.bands, hi_y - y));
         self.exhausted = reach == f64::INFINITY;
-        self.reach = reach * (1.0 - 1e-9) - 1e-9 * (x.abs() + y.abs());
+        self.reach = reach * (1.0 - 1e-9) - 1e-9 * (x.abs() + y.abs()) - self.drift;
         true
     }
 }

@@ -55,7 +55,7 @@ fn blockers_at_the_cone_edge_next_to_cell_corners() {
                 pts[k] = corner + normal * (side * frac * v.eps_ang * (corner - p).length());
                 let expect = brute(&pts, i, j, &v);
                 assert_eq!(
-                    SegmentGrid::new(&pts).blocked(&pts, i, j, &v),
+                    SegmentGrid::new(&pts).blocked(&pts, i, j, &v, 0.0),
                     expect,
                     "{p} -> {q}, blocker {} ({frac})",
                     pts[k]
@@ -144,7 +144,7 @@ fn the_single_precision_filter_keeps_blockers_it_cannot_resolve() {
         pts[k] = p + d * t + normal * (frac * v.eps_ang * t * d.length());
         let expect = brute(&pts, i, j, &v);
         assert_eq!(
-            SegmentGrid::new(&pts).blocked(&pts, i, j, &v),
+            SegmentGrid::new(&pts).blocked(&pts, i, j, &v, 0.0),
             expect,
             "{p} -> {q}, blocker {} ({frac})",
             pts[k]

@@ -11,13 +11,15 @@ use super::slots::{float, lower, raise};
 
 impl SegmentGrid {
     /// Whether some robot other than `i` and `j` blocks the view from `positions[i]` to
-    /// `positions[j]`.
+    /// `positions[j]`, every robot's position being within `drift` of the point the grid
+    /// was built over (0 for a grid over `positions` themselves).
     pub fn blocked<P: IndexPoint>(
         &self,
         positions: &[P],
         i: usize,
         j: usize,
         v: &VisionParams,
+        drift: f64,
     ) -> bool {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -27,9 +29,9 @@ impl SegmentGrid {
                 unsafe_code,
                 reason = "calling code compiled for a detected CPU feature"
             )]
-            return unsafe { self.blocked_avx2(positions, i, j, v) };
+            return unsafe { self.blocked_avx2(positions, i, j, v, drift) };
         }
-        self.walk(positions, i, j, v)
+        self.walk(positions, i, j, v, drift)
     }
 
     /// [`Self::walk`] compiled for AVX2: the line filter tests eight robots per
@@ -42,18 +44,27 @@ impl SegmentGrid {
         i: usize,
         j: usize,
         v: &VisionParams,
+        drift: f64,
     ) -> bool {
-        self.walk(positions, i, j, v)
+        self.walk(positions, i, j, v, drift)
     }
 
     /// The body of [`Self::blocked`].
     #[inline(always)]
-    fn walk<P: IndexPoint>(&self, positions: &[P], i: usize, j: usize, v: &VisionParams) -> bool {
+    fn walk<P: IndexPoint>(
+        &self,
+        positions: &[P],
+        i: usize,
+        j: usize,
+        v: &VisionParams,
+        drift: f64,
+    ) -> bool {
         let (p, q) = (positions[i], positions[j]);
         let tube = Tube::new(p, q, v.eps_ang, 0.0);
-        // Every blocker lies within `tol` of the segment (the blocking cone and room for
-        // rounding in the exact test).
-        let tol = tube.tolerance();
+        // Every blocker lies within `tube.tolerance()` of the segment (the blocking cone
+        // and room for rounding in the exact test), so the point the grid holds for it
+        // within `tol`.
+        let tol = tube.tolerance() + drift;
         let d = q - p;
         let len = d.length();
         let (px, py, dx, dy) = (p.axis(0), p.axis(1), d.axis(0), d.axis(1));
@@ -65,7 +76,11 @@ impl SegmentGrid {
                 * f64::EPSILON
                 * (px.abs() + py.abs() + self.lo[0].abs() + self.lo[1].abs() + len);
         let slack = 2.0 * err * (dx.abs() + dy.abs());
-        let (along_max, band) = (len * len + slack, 2.0 * tol * len + slack);
+        let band = 2.0 * tol * len + slack;
+        // A blocker lies strictly between p and q along the line; the grid's point for
+        // it up to `drift` before or beyond.
+        let slack = slack + drift * len;
+        let along_max = len * len + slack;
         let (rpx, rpy) = (px - self.lo[0], py - self.lo[1]);
         // Walk the bands running along the major axis `a`.
         let g = if dx.abs() >= dy.abs() {
