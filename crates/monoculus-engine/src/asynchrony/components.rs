@@ -92,6 +92,9 @@ pub struct AsyncClock {
     pub move_decided: bool,
 }
 
+/// The longest list of robots [`AsyncClock`] keeps for reuse.
+const SPARE_CAPACITY: usize = 1024;
+
 impl AsyncClock {
     /// A clock for `n` robots.
     pub fn new(n: usize) -> Self {
@@ -124,7 +127,13 @@ impl AsyncClock {
         self.tick = tick;
         due.sort_unstable();
         std::mem::swap(&mut self.due, &mut due);
-        self.spare.push(due);
+        // Lists are reused, but not the long ones of a crowded tick (a random start
+        // puts a tenth of the swarm on each of the first ticks): kept, they would
+        // hold several times the swarm's worth of room.
+        if due.capacity() <= SPARE_CAPACITY {
+            due.clear();
+            self.spare.push(due);
+        }
         true
     }
 

@@ -125,22 +125,50 @@ pub(super) fn populate<P: IndexPoint>(
         points: initial.to_vec(),
         generation: 0,
     });
-    let has_memory = config.algorithm.kind.has_memory();
-    let robots = (0..initial.len()).map(|i| {
+    // Each robot is spawned with every component it will carry, so that nothing moves
+    // it to another archetype later (at 10^6 robots, inserting the ASYNC clock one robot
+    // at a time left two tables of the swarm behind: half the peak memory). Round
+    // schedulers' robots carry their activation, wait and intent; ASYNC robots their
+    // clock (its first phase is drawn when the scheduler is wired).
+    let memory = |i: usize| {
+        let mut stream = Stream::keyed(config.seed, Purpose::RobotFrame, i as u64, 0);
+        Memory(RobotMemory::new(AxisFrame::random(P::DIM, &mut stream)))
+    };
+    let round = |i: usize| {
         (
             Robot { index: i as u32 },
             Activated(false),
             Waiting(0),
             Intent::<P>(None),
         )
-    });
-    let entities: Vec<Entity> = world.spawn_batch(robots).collect();
-    if has_memory {
-        for (i, e) in entities.into_iter().enumerate() {
-            let mut stream = Stream::keyed(config.seed, Purpose::RobotFrame, i as u64, 0);
-            let frame = AxisFrame::random(P::DIM, &mut stream);
-            world.entity_mut(e).insert(Memory(RobotMemory::new(frame)));
-        }
+    };
+    let clock = |i: usize| {
+        (
+            Robot { index: i as u32 },
+            Timing::<P> {
+                phase: Phase::Idle,
+                since: 0,
+                until: 0,
+                cycle: 0,
+                looked: 0,
+                pending: None,
+                target: initial[i],
+            },
+        )
+    };
+    let n = initial.len();
+    let has_memory = config.algorithm.kind.has_memory();
+    let asynchronous = matches!(config.scheduler, SchedulerSpec::Async(_));
+    let spawned = |_: Entity| ();
+    match (asynchronous, has_memory) {
+        (false, false) => world.spawn_batch((0..n).map(round)).for_each(spawned),
+        (false, true) => world
+            .spawn_batch((0..n).map(|i| (round(i), memory(i))))
+            .for_each(spawned),
+        (true, false) => world.spawn_batch((0..n).map(clock)).for_each(spawned),
+        (true, true) => world
+            .spawn_batch((0..n).map(|i| (clock(i), memory(i))))
+            .for_each(spawned),
     }
     hull_initial
 }

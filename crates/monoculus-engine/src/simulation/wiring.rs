@@ -19,21 +19,15 @@ pub(super) fn wire_async<P: IndexPoint>(
         v.into_iter().map(|(_, e)| e).collect()
     };
     let mut clock = AsyncClock::new(initial.len());
-    for (i, &e) in entities.iter().enumerate() {
+    let mut timings = world.query::<(&Robot, &mut Timing<P>)>();
+    for (robot, mut timing) in timings.iter_mut(world) {
+        let i = robot.index;
         let until = match spec.start {
             AsyncStart::Together => 0,
-            AsyncStart::Random => duration(params, i as u32, 0, START, spec.idle),
+            AsyncStart::Random => duration(params, i, 0, START, spec.idle),
         };
-        clock.schedule(until, i as u32);
-        world.entity_mut(e).insert(Timing::<P> {
-            phase: Phase::Idle,
-            since: 0,
-            until,
-            cycle: 0,
-            looked: 0,
-            pending: None,
-            target: initial[i],
-        });
+        timing.until = until;
+        clock.schedule(until, i);
     }
     world.insert_resource(clock);
     world.insert_resource(asynchrony::CommittedHull::new(
