@@ -28,8 +28,8 @@ pub struct PlaneIndex {
 /// What a followed index knows of how far robots are from the points of its grid.
 ///
 /// Every robot not stale is within `drift` of the point `base` holds for it, the
-/// point the grid was built over, and `drift` never exceeds `limit`, a quarter of a
-/// cell: a robot that moves farther becomes stale. Each query widens by `drift` what it
+/// point the grid was built over, and `drift` never exceeds [`DRIFT_LIMIT`] cells: a
+/// robot that moves farther becomes stale. Each query widens by `drift` what it
 /// takes from the cells (the walk's tube, a radius, the reach of the rings of cells)
 /// and ends in the same exact test on the current positions, so its answer is that of
 /// a grid built afresh (tested with robots in mid-move).
@@ -45,7 +45,7 @@ struct Follow {
 }
 
 /// The farthest a followed robot may be from its grid point before it is stale, in
-/// cells.
+/// cells (a tenth: measured a little faster than a quarter, see docs/performance.md).
 const DRIFT_LIMIT: f64 = 0.1;
 
 impl PlaneIndex {
@@ -156,7 +156,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         }
     }
 
-    /// A robot that stays within a quarter of a cell of its grid point widens the drift
+    /// A robot that stays within a tenth of a cell of its grid point widens the drift
     /// every query allows for; one that goes farther is stale. `false` (make a new
     /// index) where more than n / 64 robots (at least 8) are stale or one left the grid's
     /// box.
