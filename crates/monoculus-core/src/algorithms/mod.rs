@@ -274,8 +274,6 @@ mod tests {
     #[test]
     fn a_limited_range_hides_the_sides_beyond_it() {
         use crate::algorithms::{AlgorithmParams, certainly_stays};
-        use crate::geometry::AxisFrame;
-        use crate::observe::{OlaObservation, Side};
         use crate::vision::{ExactSight, VisionParams};
         use glam::DVec2;
         // Robot 1 between robot 0 (1 to its left) and robot 2 (10 to its right, and 10 up
@@ -296,20 +294,26 @@ mod tests {
                 ..VisionParams::default()
             },
         );
-        let occupied = |sight: &ExactSight<DVec2>| {
-            let obs = OlaObservation::new(sight, 1, AxisFrame::identity(2));
-            [
-                (0, Side::Low),
-                (0, Side::High),
-                (1, Side::Low),
-                (1, Side::High),
-            ]
-            .map(|(a, s)| obs.side_occupied(a, s))
-        };
+        let occupied = |sight: &ExactSight<DVec2>| sides_occupied(sight, 1);
         assert_eq!(occupied(&unlimited), [true; 4]);
         assert_eq!(occupied(&limited), [true, false, false, false]);
         assert!(certainly_stays(&params, &unlimited, 1));
         assert!(!certainly_stays(&params, &limited, 1));
+    }
+
+    /// Whether robot `me` sees a robot on each side of each axis: x low, x high, y low,
+    /// y high.
+    fn sides_occupied(sight: &crate::vision::ExactSight<glam::DVec2>, me: usize) -> [bool; 4] {
+        use crate::geometry::AxisFrame;
+        use crate::observe::{OlaObservation, Side};
+        let obs = OlaObservation::new(sight, me, AxisFrame::identity(2));
+        [
+            (0, Side::Low),
+            (0, Side::High),
+            (1, Side::Low),
+            (1, Side::High),
+        ]
+        .map(|(a, s)| obs.side_occupied(a, s))
     }
 
     /// With fat robots a side is occupied only by what the robot sees there: a robot
@@ -318,8 +322,6 @@ mod tests {
     #[test]
     fn fat_robots_hide_a_side_behind_them() {
         use crate::algorithms::{AlgorithmParams, certainly_stays};
-        use crate::geometry::AxisFrame;
-        use crate::observe::{OlaObservation, Side};
         use crate::vision::{ExactSight, VisionParams};
         use glam::DVec2;
         // Robot 0 sees robot 1 just below the x axis, 1 ahead; robot 2 lies 5 ahead just
@@ -341,16 +343,7 @@ mod tests {
                 ..VisionParams::default()
             },
         );
-        let occupied = |sight: &ExactSight<DVec2>| {
-            let obs = OlaObservation::new(sight, 0, AxisFrame::identity(2));
-            [
-                (0, Side::Low),
-                (0, Side::High),
-                (1, Side::Low),
-                (1, Side::High),
-            ]
-            .map(|(a, s)| obs.side_occupied(a, s))
-        };
+        let occupied = |sight: &ExactSight<DVec2>| sides_occupied(sight, 0);
         assert_eq!(occupied(&points), [true; 4]);
         assert_eq!(occupied(&fat), [true, true, true, false]);
         assert!(certainly_stays(&params, &points, 0));

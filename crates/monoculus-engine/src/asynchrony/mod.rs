@@ -6,6 +6,7 @@
 
 mod committed;
 mod components;
+mod roster;
 mod shape;
 mod sight;
 mod spec;

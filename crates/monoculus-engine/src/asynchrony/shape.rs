@@ -4,6 +4,7 @@
 use bevy_ecs::prelude::*;
 
 use super::Timing;
+use super::roster::Roster;
 use crate::IndexPoint;
 use crate::resources::Shape;
 
@@ -29,9 +30,7 @@ pub struct KeptShape<P: IndexPoint> {
     /// Whether a robot that may be a vertex of `rest` started to move.
     stale: bool,
     /// Movers whose segment may leave `rest`: robot, start point, clock.
-    outside: Vec<(u32, P, Timing<P>)>,
-    /// Where each robot is in `outside` (`u32::MAX`: not there).
-    slot: Vec<u32>,
+    outside: Roster<(P, Timing<P>)>,
     /// Shapes asked for since the hull at rest was last taken over all robots.
     since_rebuild: u32,
     /// Shapes still to take over all robots, keeping nothing: where the hull at rest
@@ -49,8 +48,6 @@ const STRIKES: u32 = 3;
 /// ...makes this many shapes be taken over all robots before trying again.
 const PLAIN: u32 = 64;
 
-const ABSENT: u32 = u32::MAX;
-
 impl<P: IndexPoint> KeptShape<P> {
     /// For a swarm at rest at `initial`.
     pub fn new(initial: &[P]) -> Self {
@@ -60,8 +57,7 @@ impl<P: IndexPoint> KeptShape<P> {
             disc: inner_disc(&rest),
             rest,
             stale: false,
-            outside: Vec::new(),
-            slot: vec![ABSENT; initial.len()],
+            outside: Roster::new(initial.len()),
             since_rebuild: 0,
             plain: 0,
             short: 0,
@@ -101,19 +97,7 @@ impl<P: IndexPoint> KeptShape<P> {
             return;
         }
         // A robot departs only once its last move ended, which untracked it.
-        debug_assert_eq!(self.slot[robot as usize], ABSENT);
-        self.slot[robot as usize] = self.outside.len() as u32;
-        self.outside.push((robot, from, timing));
-    }
-
-    fn untrack(&mut self, robot: u32) {
-        let at = std::mem::replace(&mut self.slot[robot as usize], ABSENT);
-        if at != ABSENT {
-            self.outside.swap_remove(at as usize);
-            if let Some(&(moved, _, _)) = self.outside.get(at as usize) {
-                self.slot[moved as usize] = at;
-            }
-        }
+        self.outside.insert(robot, (from, timing));
     }
 
     /// Robot `robot` starts a move from `from` (its clock says where to and when).
@@ -130,7 +114,7 @@ impl<P: IndexPoint> KeptShape<P> {
 
     /// Robot `robot` ended its move at `at`, and is at rest there.
     pub fn arrive(&mut self, robot: u32, at: P) {
-        self.untrack(robot);
+        self.outside.remove(robot);
         if !self.kept || self.stale || P::strictly_inside(&self.rest, at) {
             return;
         }
@@ -187,7 +171,7 @@ impl<P: IndexPoint> KeptShape<P> {
         points.extend(
             self.outside
                 .iter()
-                .map(|&(_, from, timing)| timing.position_at(from, tick)),
+                .map(|&(_, (from, timing))| timing.position_at(from, tick)),
         );
         Shape::of(&points)
     }
@@ -207,9 +191,6 @@ impl<P: IndexPoint> KeptShape<P> {
         self.kept = self.rest.len() >= 3;
         self.disc = inner_disc(&self.rest);
         self.stale = false;
-        for &(robot, _, _) in &self.outside {
-            self.slot[robot as usize] = ABSENT;
-        }
         self.outside.clear();
         if self.kept {
             for (robot, from, timing) in movers {

@@ -5,6 +5,7 @@ use monoculus_core::vision::Sight;
 
 use super::Timing;
 use super::components::interpolate;
+use super::roster::Roster;
 use crate::IndexPoint;
 use crate::resources::{Params, SightBackend, SnapshotSight};
 use crate::systems::build_sight;
@@ -20,21 +21,14 @@ use crate::systems::build_sight;
 pub struct LookSight<P: IndexPoint> {
     sight: Option<SnapshotSight<P>>,
     /// Robots in mid-move.
-    movers: Vec<Mover<P>>,
-    /// Where each robot is in `movers` (`u32::MAX`: not there).
-    slot: Vec<u32>,
+    movers: Roster<Mover<P>>,
     /// Robots whose move ended since the sight was last brought up to date.
     arrived: Vec<u32>,
-    /// Grids built (for the performance page's figures).
-    builds: u64,
 }
-
-const ABSENT: u32 = u32::MAX;
 
 /// A robot in mid-move, as [`Timing::position_at`] reads it.
 #[derive(Clone, Copy, Debug)]
 struct Mover<P> {
-    robot: u32,
     from: P,
     to: P,
     since: u64,
@@ -56,42 +50,30 @@ impl<P: IndexPoint> LookSight<P> {
     pub fn new(n: usize) -> Self {
         LookSight {
             sight: None,
-            movers: Vec::new(),
-            slot: vec![ABSENT; n],
+            movers: Roster::new(n),
             arrived: Vec::new(),
-            builds: 0,
         }
     }
 
     /// Robot `robot` starts a move from `from` (its clock says where to and when).
     pub fn depart(&mut self, robot: u32, from: P, timing: Timing<P>) {
-        debug_assert_eq!(self.slot[robot as usize], ABSENT);
         debug_assert!(timing.pending.is_some() && timing.phase == super::Phase::Move);
-        self.slot[robot as usize] = self.movers.len() as u32;
-        self.movers.push(Mover {
+        self.movers.insert(
             robot,
-            from,
-            to: timing.target,
-            since: timing.since,
-            until: timing.until,
-        });
+            Mover {
+                from,
+                to: timing.target,
+                since: timing.since,
+                until: timing.until,
+            },
+        );
     }
 
     /// Robot `robot` ended its move, and is at rest at its target.
     pub fn arrive(&mut self, robot: u32) {
-        let at = std::mem::replace(&mut self.slot[robot as usize], ABSENT);
-        if at != ABSENT {
-            self.movers.swap_remove(at as usize);
-            if let Some(moved) = self.movers.get(at as usize) {
-                self.slot[moved.robot as usize] = at;
-            }
+        if self.movers.remove(robot) {
             self.arrived.push(robot);
         }
-    }
-
-    /// How many times a sight or grid was made afresh.
-    pub fn builds(&self) -> u64 {
-        self.builds
     }
 
     /// The sight at `tick`: robots at rest at their points in `settled`, movers on
@@ -101,13 +83,11 @@ impl<P: IndexPoint> LookSight<P> {
             .arrived
             .drain(..)
             .map(|r| (r, settled[r as usize]))
-            .chain(self.movers.iter().map(|m| (m.robot, m.at(tick))));
+            .chain(self.movers.iter().map(|&(r, m)| (r, m.at(tick))));
         let followed = matches!(params.backend, SightBackend::Index) && !params.vision.fat();
         self.sight = Some(match self.sight.take() {
             Some(SnapshotSight::Index(mut s)) if followed => {
-                if !s.advance(changes) {
-                    self.builds += 1;
-                }
+                s.advance(changes);
                 SnapshotSight::Index(s)
             }
             previous => {
@@ -120,7 +100,6 @@ impl<P: IndexPoint> LookSight<P> {
                 for (r, p) in changes {
                     now[r as usize] = p;
                 }
-                self.builds += 1;
                 if followed {
                     SnapshotSight::Index(crate::IndexedSight::following(now, params.vision))
                 } else {
