@@ -25,6 +25,13 @@ pub trait HullGeometry: Point {
     fn hull_vertices(_points: &[Self]) -> Vec<Self> {
         Vec::new()
     }
+    /// The points of a set that may be vertices of its hull, the set given as a pass
+    /// over it that can be made twice: their hull, and so every measure taken from it
+    /// (extents included), is the set's, to the bit; every point where no throw-away
+    /// step exists. For sets too large to copy whole.
+    fn hull_candidates_of<I: Iterator<Item = Self>>(points: impl Fn() -> I) -> Vec<Self> {
+        points().collect()
+    }
     /// Whether `p` lies strictly inside the hull with these vertices (exact orientation
     /// signs; `false` where no such test exists). Adding such points to a set leaves its
     /// hull exactly as it is: the exact chain never keeps an interior point.
@@ -73,54 +80,85 @@ fn hull_candidates(points: &[DVec2]) -> Vec<DVec2> {
     if points.len() < FEW {
         return points.to_vec();
     }
-    let octagon = extreme_octagon(points);
-    let mut polygon = octagon.to_vec();
-    polygon.dedup();
-    while polygon.len() > 1 && polygon.first() == polygon.last() {
-        polygon.pop();
+    match ThrowAway::of(points.iter().copied()) {
+        Some(step) => points
+            .iter()
+            .copied()
+            .filter(|&p| step.may_be_vertex(p))
+            .collect(),
+        None => points.to_vec(),
     }
-    if polygon.len() < 3 {
-        return points.to_vec();
+}
+
+/// The throw-away step of [`hull_candidates`]: the polygon through a set's extreme
+/// points, and a box inside it.
+struct ThrowAway {
+    edges: Vec<(DVec2, DVec2)>,
+    boxed: Option<(DVec2, DVec2)>,
+}
+
+impl ThrowAway {
+    /// The step for the set `points` lists; `None` where its extreme points span no
+    /// polygon (nothing can be thrown away).
+    fn of(points: impl Iterator<Item = DVec2>) -> Option<Self> {
+        let octagon = extreme_octagon(points)?;
+        let mut polygon = octagon.to_vec();
+        polygon.dedup();
+        while polygon.len() > 1 && polygon.first() == polygon.last() {
+            polygon.pop();
+        }
+        if polygon.len() < 3 {
+            return None;
+        }
+        let mut step = ThrowAway {
+            edges: (0..polygon.len())
+                .map(|i| (polygon[i], polygon[(i + 1) % polygon.len()]))
+                .collect(),
+            boxed: None,
+        };
+        step.boxed = inscribed_box(&octagon, &|p| step.interior(p));
+        Some(step)
     }
-    let edges: Vec<(DVec2, DVec2)> = (0..polygon.len())
-        .map(|i| (polygon[i], polygon[(i + 1) % polygon.len()]))
-        .collect();
-    let interior = |p: DVec2| edges.iter().all(|&(a, b)| orient(a, b, p) > 0.0);
-    let boxed = inscribed_box(&octagon, &interior);
-    points
-        .iter()
-        .copied()
-        .filter(|&p| {
-            let in_box = boxed.is_some_and(|(lo, hi)| p.cmpge(lo).all() && p.cmple(hi).all());
-            !in_box && !interior(p)
-        })
-        .collect()
+
+    /// Strictly left of every edge.
+    fn interior(&self, p: DVec2) -> bool {
+        self.edges.iter().all(|&(a, b)| orient(a, b, p) > 0.0)
+    }
+
+    /// Whether `p` is not thrown away.
+    fn may_be_vertex(&self, p: DVec2) -> bool {
+        let in_box = self
+            .boxed
+            .is_some_and(|(lo, hi)| p.cmpge(lo).all() && p.cmple(hi).all());
+        !in_box && !self.interior(p)
+    }
 }
 
 /// The points extreme in eight directions, counter-clockwise from "down": the lowest,
 /// then the largest x - y, x, x + y, y, y - x, and the smallest x, x + y (the first
 /// found where several tie; rounded projections are fine, as any points will do). One
-/// pass.
-fn extreme_octagon(points: &[DVec2]) -> [DVec2; 8] {
+/// pass; `None` for no point.
+fn extreme_octagon(mut points: impl Iterator<Item = DVec2>) -> Option<[DVec2; 8]> {
     let project = |p: DVec2| [p.x, p.y, p.x + p.y, p.x - p.y];
-    let first = project(points[0]);
+    let start = points.next()?;
+    let first = project(start);
     let (mut lo, mut hi) = (first, first);
-    let (mut arg_lo, mut arg_hi) = ([0usize; 4], [0usize; 4]);
-    for (i, &p) in points.iter().enumerate().skip(1) {
+    let (mut arg_lo, mut arg_hi) = ([start; 4], [start; 4]);
+    for p in points {
         let v = project(p);
         for k in 0..4 {
             if v[k] < lo[k] {
                 lo[k] = v[k];
-                arg_lo[k] = i;
+                arg_lo[k] = p;
             }
             if v[k] > hi[k] {
                 hi[k] = v[k];
-                arg_hi[k] = i;
+                arg_hi[k] = p;
             }
         }
     }
     let (x, y, sum, diff) = (0, 1, 2, 3);
-    [
+    Some([
         arg_lo[y],
         arg_hi[diff],
         arg_hi[x],
@@ -129,8 +167,7 @@ fn extreme_octagon(points: &[DVec2]) -> [DVec2; 8] {
         arg_lo[diff],
         arg_lo[x],
         arg_lo[sum],
-    ]
-    .map(|i| points[i])
+    ])
 }
 
 /// A box whose four corners pass `interior` (then so does all of it: the points that
@@ -246,6 +283,13 @@ impl HullGeometry for DVec2 {
         convex_hull_2d(points)
     }
 
+    fn hull_candidates_of<I: Iterator<Item = Self>>(points: impl Fn() -> I) -> Vec<Self> {
+        match ThrowAway::of(points()) {
+            Some(step) => points().filter(|&p| step.may_be_vertex(p)).collect(),
+            None => points().collect(),
+        }
+    }
+
     fn hull_perimeter(points: &[Self]) -> Option<f64> {
         let hull = convex_hull_2d(points);
         Some(match hull.len() {
@@ -346,6 +390,20 @@ mod tests {
             let mut shuffled = pts.clone();
             shuffled.reverse();
             assert_eq!(convex_hull_2d(&shuffled), expected, "set {k} reversed");
+            // The same step over a pass made twice (sets of any size): the hull, the
+            // measures and the extents of what it keeps are the set's.
+            let kept = DVec2::hull_candidates_of(|| pts.iter().copied());
+            assert_eq!(convex_hull_2d_all(&kept), expected, "set {k} streamed");
+            let bounds = |p: &[DVec2]| crate::metrics::extents(p);
+            assert_eq!(bounds(&kept), bounds(pts), "set {k} extents");
+            assert_eq!(
+                DVec2::hull_and_diameter(&kept).0.to_bits(),
+                DVec2::hull_and_diameter(pts).0.to_bits(),
+                "set {k} area"
+            );
+        }
+        for pts in [&[][..], &[DVec2::ONE][..], &[DVec2::ZERO, DVec2::ONE][..]] {
+            assert_eq!(DVec2::hull_candidates_of(|| pts.iter().copied()), pts);
         }
         // And it throws most of a uniform square away.
         let square: Vec<DVec2> = (0..10_000)
@@ -353,6 +411,8 @@ mod tests {
             .collect();
         let kept = hull_candidates(&square).len();
         assert!(kept < 500, "kept {kept} of 10000");
+        let streamed = DVec2::hull_candidates_of(|| square.iter().copied()).len();
+        assert_eq!(streamed, kept);
     }
 
     #[test]

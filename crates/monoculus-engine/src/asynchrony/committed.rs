@@ -59,8 +59,9 @@ impl<P: IndexPoint> CommittedHull<P> {
     }
 
     /// The measure of the hull after this tick's events; `all` lists every committed
-    /// point, asked for only when the hull must be taken over all of them.
-    pub fn measure(&mut self, all: impl FnOnce() -> Vec<P>) -> f64 {
+    /// point (a pass made twice), asked for only when the hull must be taken over all
+    /// of them.
+    pub fn measure<I: Iterator<Item = P>>(&mut self, all: impl Fn() -> I) -> f64 {
         let disc = self.disc;
         let inside = |hull: &[P], p: &P| in_disc(disc, *p) || P::strictly_inside(hull, *p);
         if self.kept && self.removed.iter().all(|p| inside(&self.vertices, p)) {
@@ -79,7 +80,8 @@ impl<P: IndexPoint> CommittedHull<P> {
                 // The hull grew: the old disc is still inside it.
             }
         } else {
-            let points = all();
+            // Only the points that may be vertices: the hull is that of all of them.
+            let points = P::hull_candidates_of(all);
             self.measure = P::hull_measure(&points);
             self.vertices = P::hull_vertices(&points);
             self.kept = self.vertices.len() >= 3;

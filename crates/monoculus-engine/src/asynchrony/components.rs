@@ -34,8 +34,6 @@ pub struct Timing<P: IndexPoint> {
     /// Compute and Move: the displacement decided at the Look (`None`: stay; the Move
     /// phase is then spent in place).
     pub pending: Option<P>,
-    /// Move: where the move ends.
-    pub target: P,
 }
 
 impl<P: IndexPoint> Timing<P> {
@@ -44,7 +42,17 @@ impl<P: IndexPoint> Timing<P> {
         if self.phase != Phase::Move || self.pending.is_none() || self.until <= self.since {
             return from;
         }
-        interpolate(from, self.target, self.since, self.until, tick)
+        interpolate(from, self.target(from), self.since, self.until, tick)
+    }
+
+    /// Where the move decided at the Look ends, for a robot whose phase started at
+    /// `from` (`from` itself where it decided to stay).
+    #[inline]
+    pub fn target(&self, from: P) -> P {
+        match self.pending {
+            Some(d) => from + d,
+            None => from,
+        }
     }
 }
 

@@ -93,7 +93,7 @@ impl<P: IndexPoint> KeptShape<P> {
     /// does not (by the disc, then by the exact test of its ends: the disc alone left
     /// a third of the movers of fine-grained runs to be taken at every tick).
     fn track(&mut self, robot: u32, from: P, timing: Timing<P>) {
-        if self.certainly_inside(from, timing.target) {
+        if self.certainly_inside(from, timing.target(from)) {
             return;
         }
         // A robot departs only once its last move ended, which untracked it.
@@ -125,21 +125,26 @@ impl<P: IndexPoint> KeptShape<P> {
         // The hull grew: the old disc is still inside it.
     }
 
-    /// The shape at `tick`. `robots` lists every robot's start point and clock, asked
-    /// for only when the hull at rest must be taken again over all robots; `all`
-    /// gives every robot's position at `tick`, asked for only where nothing is kept.
+    /// The shape at `tick`. `robots` lists every robot's start point and clock (a pass
+    /// made as often as needed): it is read only when the hull at rest must be taken
+    /// again over all robots, or where nothing is kept.
     pub fn shape<I: Iterator<Item = (u32, P, Timing<P>)>>(
         &mut self,
         tick: u64,
         robots: impl Fn() -> I,
-        all: impl FnOnce() -> Vec<P>,
     ) -> Shape {
+        // Every robot's position at `tick`, down to those that may be on the hull.
+        let all = || {
+            Shape::of(&P::hull_candidates_of(|| {
+                robots().map(|(_, from, timing)| timing.position_at(from, tick))
+            }))
+        };
         if P::DIM != 2 {
-            return Shape::of(&all());
+            return all();
         }
         if self.plain > 0 {
             self.plain -= 1;
-            return Shape::of(&all());
+            return all();
         }
         if self.stale {
             self.short = if self.since_rebuild < SHORT_LIVED {
@@ -154,16 +159,16 @@ impl<P: IndexPoint> KeptShape<P> {
             self.plain = PLAIN;
             // Taken again over all robots once the plain shapes are done.
             self.since_rebuild = SHORT_LIVED;
-            return Shape::of(&all());
+            return all();
         }
         if self.stale || !self.kept {
-            self.rebuild(robots());
+            self.rebuild(&robots);
             self.since_rebuild = 0;
             if !self.kept {
                 // Fewer than three vertices at rest (a line of robots): nothing to keep.
                 self.plain = PLAIN;
                 self.since_rebuild = SHORT_LIVED;
-                return Shape::of(&all());
+                return all();
             }
         }
         self.since_rebuild = self.since_rebuild.saturating_add(1);
@@ -176,24 +181,20 @@ impl<P: IndexPoint> KeptShape<P> {
         Shape::of(&points)
     }
 
-    fn rebuild(&mut self, robots: impl Iterator<Item = (u32, P, Timing<P>)>) {
+    fn rebuild<I: Iterator<Item = (u32, P, Timing<P>)>>(&mut self, robots: &impl Fn() -> I) {
         let moving = |t: &Timing<P>| t.phase == super::Phase::Move && t.pending.is_some();
-        let mut at_rest = Vec::new();
-        let mut movers = Vec::new();
-        for (robot, from, timing) in robots {
-            if moving(&timing) {
-                movers.push((robot, from, timing));
-            } else {
-                at_rest.push(from);
-            }
-        }
+        let at_rest = P::hull_candidates_of(|| {
+            robots()
+                .filter(|(_, _, timing)| !moving(timing))
+                .map(|(_, from, _)| from)
+        });
         self.rest = P::hull_vertices(&at_rest);
         self.kept = self.rest.len() >= 3;
         self.disc = inner_disc(&self.rest);
         self.stale = false;
         self.outside.clear();
         if self.kept {
-            for (robot, from, timing) in movers {
+            for (robot, from, timing) in robots().filter(|(_, _, timing)| moving(timing)) {
                 self.track(robot, from, timing);
             }
         }

@@ -26,21 +26,21 @@ pub struct LookSight<P: IndexPoint> {
     arrived: Vec<u32>,
 }
 
-/// A robot in mid-move, as [`Timing::position_at`] reads it.
+/// A robot in mid-move, as [`Timing::position_at`] reads it (where it started is its
+/// settled position).
 #[derive(Clone, Copy, Debug)]
 struct Mover<P> {
-    from: P,
     to: P,
     since: u64,
     until: u64,
 }
 
 impl<P: IndexPoint> Mover<P> {
-    fn at(&self, tick: u64) -> P {
+    fn at(&self, from: P, tick: u64) -> P {
         if self.until <= self.since {
-            self.from
+            from
         } else {
-            interpolate(self.from, self.to, self.since, self.until, tick)
+            interpolate(from, self.to, self.since, self.until, tick)
         }
     }
 }
@@ -61,8 +61,7 @@ impl<P: IndexPoint> LookSight<P> {
         self.movers.insert(
             robot,
             Mover {
-                from,
-                to: timing.target,
+                to: timing.target(from),
                 since: timing.since,
                 until: timing.until,
             },
@@ -83,7 +82,11 @@ impl<P: IndexPoint> LookSight<P> {
             .arrived
             .drain(..)
             .map(|r| (r, settled[r as usize]))
-            .chain(self.movers.iter().map(|&(r, m)| (r, m.at(tick))));
+            .chain(
+                self.movers
+                    .iter()
+                    .map(|&(r, m)| (r, m.at(settled[r as usize], tick))),
+            );
         let followed = matches!(params.backend, SightBackend::Index) && !params.vision.fat();
         self.sight = Some(match self.sight.take() {
             Some(SnapshotSight::Index(mut s)) if followed => {

@@ -92,15 +92,17 @@ pub fn finish_moves<P: IndexPoint>(
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
         if timing.phase == Phase::Move && timing.until == t {
-            if timing.pending.take().is_some() {
+            if timing.pending.is_some() {
                 if params.is_correct(r as usize) {
                     committed.remove(positions.points[r as usize]);
                 }
-                positions.points[r as usize] = timing.target;
-                kept_shape.arrive(r, timing.target);
+                let target = timing.target(positions.points[r as usize]);
+                positions.points[r as usize] = target;
+                kept_shape.arrive(r, target);
                 sight.arrive(r);
                 clock.move_ended = true;
                 clock.in_motion -= 1;
+                timing.pending = None;
             }
             go_idle(&params, &mut clock, r, &mut timing);
         }
@@ -132,12 +134,10 @@ pub fn finish_computes<P: IndexPoint>(
         }
         // A robot that decided to stay spends its Move phase in place, so that every
         // cycle is Idle, Look, Compute, Move whatever the decision.
-        let d = timing.pending.take();
+        let d = timing.pending;
         timing.phase = Phase::Move;
         timing.since = t;
         timing.until = t + duration(&params, r, timing.cycle, MOVE, spec(&params).motion);
-        timing.target = position + d.unwrap_or(position * 0.0);
-        timing.pending = d;
         if let Some(d) = d {
             kept_shape.depart(r, position, *timing);
             sight.depart(r, position, *timing);
@@ -274,19 +274,11 @@ pub fn look<P: IndexPoint>(
 /// current position lies between the two).
 pub(crate) fn committed_points<P: IndexPoint>(
     robots: impl Iterator<Item = (P, Timing<P>)>,
-) -> Vec<P> {
-    let mut pts = Vec::new();
-    for (from, timing) in robots {
-        pts.push(from);
-        if let Some(d) = timing.pending {
-            pts.push(if timing.phase == Phase::Move {
-                timing.target
-            } else {
-                from + d
-            });
-        }
-    }
-    pts
+) -> impl Iterator<Item = P> {
+    robots.flat_map(|(from, timing)| {
+        let destination = timing.pending.map(|d| from + d);
+        std::iter::once(from).chain(destination)
+    })
 }
 
 /// Events in a tick from which its work is worth sharing between threads.
@@ -340,7 +332,7 @@ pub fn account<P: IndexPoint>(
                 let measure = kept.measure(all);
                 debug_assert_eq!(
                     measure.to_bits(),
-                    P::hull_measure(&all()).to_bits(),
+                    P::hull_measure(&all().collect::<Vec<_>>()).to_bits(),
                     "the hull kept across ticks is the hull over all committed points"
                 );
                 measure
@@ -359,7 +351,7 @@ pub fn account<P: IndexPoint>(
                     // every robot).
                     return Shape::of(&params.correct(&now()));
                 }
-                let shape = kept_shape.shape(tick, clocks, now);
+                let shape = kept_shape.shape(tick, clocks);
                 debug_assert_eq!(
                     format!("{shape:?}"),
                     format!("{:?}", Shape::of(&now())),
@@ -393,7 +385,6 @@ mod tests {
             cycle: 0,
             looked: 0,
             pending: None,
-            target: settled[0],
         };
         let moving = Timing {
             phase: Phase::Move,
@@ -402,7 +393,6 @@ mod tests {
             cycle: 1,
             looked: 8,
             pending: Some(DVec2::new(-4.0, 0.0)),
-            target: DVec2::new(1.0, 0.0),
         };
         let robots = [
             (0, settled[0], idle),

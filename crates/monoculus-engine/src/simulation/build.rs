@@ -99,11 +99,12 @@ pub(super) fn params(config: &SimConfig, n: usize) -> Params {
     }
 }
 
-/// Inserts the resources of a run starting at `initial` and spawns its robots (with
-/// their termination memory, for the algorithm that has one); returns the initial hull.
-pub(super) fn populate<P: IndexPoint>(
+/// Inserts the resources of a run starting at `initial`; returns the initial hull.
+/// Resources are entities too, and each carries a sparse index over every entity
+/// before it (4 MB at 10^6 robots), so they are inserted before the robots are spawned
+/// ([`spawn_robots`]).
+pub(super) fn insert_resources<P: IndexPoint>(
     world: &mut World,
-    config: &SimConfig,
     params: Params,
     initial: &[P],
 ) -> f64 {
@@ -125,6 +126,17 @@ pub(super) fn populate<P: IndexPoint>(
         points: initial.to_vec(),
         generation: 0,
     });
+    world.init_resource::<bevy_ecs::schedule::Schedules>();
+    hull_initial
+}
+
+/// Spawns the robots of a run starting at `initial` (with their termination memory,
+/// for the algorithm that has one); under ASYNC, returns their entities by index.
+pub(super) fn spawn_robots<P: IndexPoint>(
+    world: &mut World,
+    config: &SimConfig,
+    initial: &[P],
+) -> Vec<Entity> {
     // Each robot is spawned with every component it will carry, so that nothing moves
     // it to another archetype later (at 10^6 robots, inserting the ASYNC clock one robot
     // at a time left two tables of the swarm behind: half the peak memory). Round
@@ -152,23 +164,23 @@ pub(super) fn populate<P: IndexPoint>(
                 cycle: 0,
                 looked: 0,
                 pending: None,
-                target: initial[i],
             },
         )
     };
     let n = initial.len();
     let has_memory = config.algorithm.kind.has_memory();
     let asynchronous = matches!(config.scheduler, SchedulerSpec::Async(_));
-    let spawned = |_: Entity| ();
     match (asynchronous, has_memory) {
-        (false, false) => world.spawn_batch((0..n).map(round)).for_each(spawned),
+        (false, false) => world.spawn_batch((0..n).map(round)).for_each(drop),
         (false, true) => world
             .spawn_batch((0..n).map(|i| (round(i), memory(i))))
-            .for_each(spawned),
-        (true, false) => world.spawn_batch((0..n).map(clock)).for_each(spawned),
-        (true, true) => world
-            .spawn_batch((0..n).map(|i| (clock(i), memory(i))))
-            .for_each(spawned),
+            .for_each(drop),
+        (true, false) => return world.spawn_batch((0..n).map(clock)).collect(),
+        (true, true) => {
+            return world
+                .spawn_batch((0..n).map(|i| (clock(i), memory(i))))
+                .collect();
+        }
     }
-    hull_initial
+    Vec::new()
 }

@@ -195,7 +195,11 @@ impl<P: IndexPoint> Simulation<P> {
         build::validate(&config, &initial)?;
         let params = build::params(&config, initial.len());
         let mut world = World::new();
-        let hull_initial = build::populate(&mut world, &config, params.clone(), &initial);
+        let hull_initial = build::insert_resources(&mut world, params.clone(), &initial);
+        if matches!(config.scheduler, SchedulerSpec::Async(_)) {
+            wiring::insert_async_resources(&mut world, &params, &initial, hull_initial);
+        }
+        let entities = build::spawn_robots(&mut world, &config, &initial);
         let correct = params.correct(&initial);
         let (d_opt, d_max) = (
             metrics::d_opt(&correct, config.algorithm.locality),
@@ -204,14 +208,7 @@ impl<P: IndexPoint> Simulation<P> {
         drop(correct);
         let mut schedule = Schedule::default();
         if let SchedulerSpec::Async(spec) = config.scheduler {
-            wiring::wire_async(
-                &mut world,
-                &mut schedule,
-                &params,
-                spec,
-                &initial,
-                hull_initial,
-            );
+            wiring::wire_async::<P>(&mut world, &mut schedule, &params, spec, entities);
         } else {
             let adversary = matches!(config.scheduler, SchedulerSpec::Adversary { .. });
             wiring::wire_rounds::<P>(&mut schedule, adversary);

@@ -3,22 +3,35 @@
 
 use super::*;
 
-/// Wires the ASYNC scheduler: every robot's first phase, the clock, the tick's systems.
+/// The ASYNC scheduler's resources, inserted before the robots are spawned (see
+/// [`build::insert_resources`]); the clock and the entities are filled in by
+/// [`wire_async`].
+pub(super) fn insert_async_resources<P: IndexPoint>(
+    world: &mut World,
+    params: &Params,
+    initial: &[P],
+    hull_initial: f64,
+) {
+    world.insert_resource(AsyncClock::new(initial.len()));
+    world.insert_resource(asynchrony::CommittedHull::new(
+        &params.correct(initial),
+        hull_initial,
+    ));
+    world.insert_resource(asynchrony::KeptShape::new(initial));
+    world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
+    world.insert_resource(RobotEntities(Vec::new()));
+}
+
+/// Wires the ASYNC scheduler over the robots spawned as `entities` (by index): every
+/// robot's first phase, the clock, the tick's systems.
 pub(super) fn wire_async<P: IndexPoint>(
     world: &mut World,
     schedule: &mut Schedule,
     params: &Params,
     spec: crate::AsyncSpec,
-    initial: &[P],
-    hull_initial: f64,
+    entities: Vec<Entity>,
 ) {
-    let entities: Vec<Entity> = {
-        let mut q = world.query::<(Entity, &Robot)>();
-        let mut v: Vec<(u32, Entity)> = q.iter(world).map(|(e, r)| (r.index, e)).collect();
-        v.sort_unstable_by_key(|&(i, _)| i);
-        v.into_iter().map(|(_, e)| e).collect()
-    };
-    let mut clock = AsyncClock::new(initial.len());
+    let mut clock = AsyncClock::new(entities.len());
     let mut timings = world.query::<(&Robot, &mut Timing<P>)>();
     for (robot, mut timing) in timings.iter_mut(world) {
         let i = robot.index;
@@ -29,14 +42,8 @@ pub(super) fn wire_async<P: IndexPoint>(
         timing.until = until;
         clock.schedule(until, i);
     }
-    world.insert_resource(clock);
-    world.insert_resource(asynchrony::CommittedHull::new(
-        &params.correct(initial),
-        hull_initial,
-    ));
-    world.insert_resource(asynchrony::KeptShape::new(initial));
-    world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
-    world.insert_resource(RobotEntities(entities));
+    *world.resource_mut::<AsyncClock>() = clock;
+    world.resource_mut::<RobotEntities>().0 = entities;
     schedule.configure_sets(
         (
             AsyncSet::Advance,
