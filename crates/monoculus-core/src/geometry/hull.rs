@@ -80,14 +80,7 @@ fn hull_candidates(points: &[DVec2]) -> Vec<DVec2> {
     if points.len() < FEW {
         return points.to_vec();
     }
-    match ThrowAway::of(points.iter().copied()) {
-        Some(step) => points
-            .iter()
-            .copied()
-            .filter(|&p| step.may_be_vertex(p))
-            .collect(),
-        None => points.to_vec(),
-    }
+    DVec2::hull_candidates_of(|| points.iter().copied())
 }
 
 /// The throw-away step of [`hull_candidates`]: the polygon through a set's extreme

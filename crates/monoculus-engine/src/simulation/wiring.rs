@@ -4,8 +4,8 @@
 use super::*;
 
 /// The ASYNC scheduler's resources, inserted before the robots are spawned (see
-/// [`build::insert_resources`]); the clock and the entities are filled in by
-/// [`wire_async`].
+/// [`build::insert_resources`]); the clock's first phases and the entities are filled
+/// in by [`wire_async`].
 pub(super) fn insert_async_resources<P: IndexPoint>(
     world: &mut World,
     params: &Params,
@@ -31,7 +31,7 @@ pub(super) fn wire_async<P: IndexPoint>(
     spec: crate::AsyncSpec,
     entities: Vec<Entity>,
 ) {
-    let mut clock = AsyncClock::new(entities.len());
+    let mut clock = std::mem::take(&mut *world.resource_mut::<AsyncClock>());
     let mut timings = world.query::<(&Robot, &mut Timing<P>)>();
     for (robot, mut timing) in timings.iter_mut(world) {
         let i = robot.index;
