@@ -34,7 +34,7 @@ pub mod asynchrony;
 pub mod components;
 mod error;
 pub mod faults;
-mod index;
+pub mod index;
 pub mod resources;
 mod scheduler;
 mod simulation;

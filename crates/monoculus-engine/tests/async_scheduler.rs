@@ -295,17 +295,22 @@ fn watching_a_run_tick_by_tick_does_not_change_it() {
     }
 }
 
-/// Fine-grained durations: hundreds of ticks a cycle, so that at each tick with Looks
-/// most robots in motion moved a little since the last one and the band grid follows
-/// them instead of being built again. The runs are those of the brute-force sight, from
-/// random, lattice and collinear starts.
+/// Durations from a few ticks a cycle to hundreds: the moving index is made at every
+/// tick with Looks where Looks are many, and serves long stretches of ticks where they
+/// are few, robots in mid-move placed on their segments when asked. The runs are those
+/// of the brute-force sight, from random, lattice and collinear starts.
 #[test]
-fn the_followed_grid_agrees_with_the_exact_backend_at_a_fine_time_resolution() {
+fn the_moving_index_agrees_with_the_exact_backend_at_every_time_resolution() {
     use monoculus_core::init::{InitShape, generate};
-    let fine = AsyncSpec {
-        idle: TickDist::Uniform { min: 1, max: 200 },
-        compute: TickDist::Uniform { min: 1, max: 100 },
-        motion: TickDist::Exponential { mean: 80.0 },
+    let timing = |scale: u64| AsyncSpec {
+        idle: TickDist::Uniform {
+            min: 1,
+            max: 2 * scale,
+        },
+        compute: TickDist::Uniform { min: 1, max: scale },
+        motion: TickDist::Exponential {
+            mean: 0.8 * scale as f64,
+        },
         start: AsyncStart::Random,
     };
     let starts = [
@@ -316,17 +321,20 @@ fn the_followed_grid_agrees_with_the_exact_backend_at_a_fine_time_resolution() {
         ),
         ("line", generate(&InitShape::Line { side: 12.0 }, 60, 5)),
     ];
-    for kind in [
-        AlgorithmKind::ConvergeLocality,
-        AlgorithmKind::ConvergeQuadrant,
-    ] {
-        for (name, start) in &starts {
-            let mut cfg = with_async(common::config(kind, SchedulerSpec::Fsync, 5), fine);
-            cfg.stop.max_rounds = 6;
-            let a = Simulation::new(cfg.clone(), start.clone()).unwrap().run();
-            cfg.backend = SightBackend::Exact;
-            let b = Simulation::new(cfg, start.clone()).unwrap().run();
-            assert_eq!(a, b, "{} from {name}", kind.name());
+    for scale in [5, 20, 100] {
+        for kind in [
+            AlgorithmKind::ConvergeLocality,
+            AlgorithmKind::ConvergeQuadrant,
+        ] {
+            for (name, start) in &starts {
+                let cfg = common::config(kind, SchedulerSpec::Fsync, 5);
+                let mut cfg = with_async(cfg, timing(scale));
+                cfg.stop.max_rounds = 6;
+                let a = Simulation::new(cfg.clone(), start.clone()).unwrap().run();
+                cfg.backend = SightBackend::Exact;
+                let b = Simulation::new(cfg, start.clone()).unwrap().run();
+                assert_eq!(a, b, "{} from {name}, durations x{scale}", kind.name());
+            }
         }
     }
 }

@@ -18,11 +18,7 @@ fn sweep_and_index_match_the_definition() {
 
 /// Every query of `indexed` (over `pts`) against the definition and the brute-force
 /// sight.
-fn agrees_with_the_definition(
-    name: &str,
-    indexed: &monoculus_engine::IndexedSight<glam::DVec2>,
-    pts: &[glam::DVec2],
-) {
+fn agrees_with_the_definition<S: Sight<glam::DVec2>>(name: &str, indexed: &S, pts: &[glam::DVec2]) {
     let v = VisionParams::default();
     let exact = ExactSight::new(pts.to_vec(), v);
     for i in 0..pts.len() {
@@ -367,85 +363,73 @@ fn fat_robots_are_seen_as_the_definition_says() {
     }
 }
 
-/// A followed sight (the one ASYNC Looks use) moved robot by robot along segments, as
-/// robots in mid-move are: its answers stay the definition's when the grid is kept with
-/// every robot near its grid point (small steps: the queries widen by the drift), with
-/// robots moved farther (stale: onto others, between two others, back), and after the
-/// index is made again (a robot out of the grid's box).
+/// A moving index (the one ASYNC's Looks see through) with robots in mid-move along
+/// segments, each given the disc around its segment: its answers are the definition's
+/// at the start, the middle and the end of the moves, on every configuration of the zoo,
+/// with short moves (within the limit: the queries widen by the drift, the line filter
+/// tests each disc), long ones (stale: onto others, between others, out of the grid's
+/// box), and robots that arrived (a point again, away from where the grid holds them).
 #[test]
-fn a_followed_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
+fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
     use glam::DVec2;
-    use monoculus_engine::IndexedSight;
+    use monoculus_engine::SpatialIndex;
+    use monoculus_engine::asynchrony::TickSight;
+    use monoculus_engine::index::PlaneIndex;
     let v = VisionParams::default();
+    let disc = |from: DVec2, to: DVec2| {
+        let scale = from.abs().max(to.abs()).max_element();
+        let reach = 0.5 * (to - from).length() * (1.0 + 1e-12) + 16.0 * f64::EPSILON * scale;
+        ((from + to) * 0.5, reach)
+    };
     for seed in 0..2 {
-        for (name, mut pts) in common::zoo(seed) {
+        for (name, pts) in common::zoo(seed) {
             let n = pts.len();
-            let mut sight = IndexedSight::following(pts.clone(), v);
-            sight.build_index();
-            let targets: Vec<DVec2> = (0..n).map(|k| pts[(k * 7 + 3) % n]).collect();
-            let starts = pts.clone();
-            // A thousandth of the swarm's extent: within the drift a grid allows (a
-            // tenth of a cell, and cells are at least extent / (2 sqrt n) wide).
+            let mut index = PlaneIndex::moving(pts.clone()).unwrap();
+            let cell = index.cell_size();
+            index.allow(2.0 * cell);
             let (lo, hi) = monoculus_core::metrics::bounds(&pts);
-            let unit = 1e-3 * (hi - lo).max_element();
-            // Small steps: a third of the robots, a little farther along their segment
-            // each time, and every fifth one a hair across its line and back.
-            for step in 1..=3 {
-                let mut changes = Vec::new();
-                for k in (0..n).filter(|k| k % 3 == 0) {
-                    let (from, to) = (starts[k], targets[k]);
-                    let length = (to - from).length().max(1e-300);
-                    let f = (unit * step as f64 / length).min(1.0);
-                    let mut p = from + (to - from) * f;
-                    if k % 5 == 0 && step == 2 {
-                        p += DVec2::new(-(to - from).y, (to - from).x) * 1e-13;
-                    }
-                    changes.push((k as u32, p));
-                }
-                for &(k, p) in &changes {
-                    pts[k as usize] = p;
-                }
-                // A step off a line leaves the (flat) box of the grid: made again.
-                let inside = changes
-                    .iter()
-                    .all(|&(_, p)| p.cmpge(lo).all() && p.cmple(hi).all());
-                let kept = sight.advance(changes.into_iter());
-                assert_eq!(
-                    kept, inside,
-                    "{name}: the grid is kept unless a robot left it"
-                );
-                assert_eq!(sight.stale_robots(), 0, "{name}: small steps, none stale");
-                agrees_with_the_definition(
-                    &format!("{name} seed {seed} small step {step}"),
-                    &sight,
-                    &pts,
-                );
+            let mut moves = Vec::new();
+            for k in (0..n).filter(|k| k % 3 == 0) {
+                let (from, target) = (pts[k], pts[(k * 7 + 3) % n]);
+                let to = match k % 4 {
+                    // Short: within the limit.
+                    0 => from + (target - from).clamp_length_max(1.5 * cell),
+                    // A hair: the drift is tiny.
+                    1 => from + (target - from).clamp_length_max(1e-9 * cell),
+                    // Onto another robot, or between two: stale unless near.
+                    2 => target,
+                    _ => (target + pts[(k * 5 + 1) % n]) * 0.5,
+                };
+                // Out of the grid's box.
+                let to = if k == 3 {
+                    hi + (hi - lo) + DVec2::ONE
+                } else {
+                    to
+                };
+                let (centre, reach) = disc(from, to);
+                index.follow(k, centre, reach);
+                moves.push((k, from, to));
             }
-            // Moves onto others and between others: stale, tested one by one.
-            for (generation, step) in [[(1, 2, 2), (3, 4, 5)], [(3, 3, 3), (7, 8, 8)]]
-                .iter()
-                .enumerate()
-            {
-                let changes: Vec<(u32, DVec2)> = step
-                    .iter()
-                    .map(|&(k, a, b)| (k as u32, (pts[a] + pts[b]) * 0.5))
-                    .collect();
-                for &(k, p) in &changes {
-                    pts[k as usize] = p;
+            let at = |f: f64| {
+                let mut now = pts.clone();
+                for &(k, from, to) in &moves {
+                    now[k] = from + (to - from) * f;
                 }
-                sight.advance(changes.into_iter());
-                agrees_with_the_definition(
-                    &format!("{name} seed {seed} far move {generation}"),
-                    &sight,
-                    &pts,
-                );
+                now
+            };
+            for f in [0.0, 0.37, 1.0] {
+                let now = at(f);
+                let sight = TickSight::over(&now, &index, v);
+                agrees_with_the_definition(&format!("{name} seed {seed} at {f}"), &sight, &now);
             }
-            pts[0] += DVec2::splat(100.0);
-            assert!(
-                !sight.advance([(0, pts[0])].into_iter()),
-                "{name}: out of the box, made again"
-            );
-            agrees_with_the_definition(&format!("{name} seed {seed} made again"), &sight, &pts);
+            // The robots arrived: each a point again (where its move ended).
+            let now = at(1.0);
+            for &(k, _, to) in &moves {
+                index.follow(k, to, 0.0);
+            }
+            let sight = TickSight::over(&now, &index, v);
+            agrees_with_the_definition(&format!("{name} seed {seed} arrived"), &sight, &now);
+            assert!(index.stale_robots() > 0, "{name}: some moves were too long");
         }
     }
 }

@@ -180,7 +180,7 @@ pub fn certainly_stays<P: Point, S: Sight<P> + ?Sized>(
         return false;
     }
     let eps = sight.vision().eps_axis;
-    let p = sight.positions()[robot];
+    let p = sight.position(robot);
     let (lo, hi) = sight.bounds();
     // The tests of `OlaObservation::side_occupied`, for both sides of every axis.
     (0..P::DIM).all(|a| hi.axis(a) > p.axis(a) + eps && lo.axis(a) < p.axis(a) - eps)

@@ -67,9 +67,8 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
     }
 
     fn is_far(&self, j: usize) -> bool {
-        let pos = self.sight.positions();
-        self.perception
-            .far(j, (pos[j] - pos[self.me]).length(), self.locality)
+        let (p, q) = (self.sight.position(self.me), self.sight.position(j));
+        self.perception.far(j, (q - p).length(), self.locality)
     }
 
     /// The number of visible points, counted up to `limit`.

@@ -170,6 +170,5 @@ pub(crate) fn sole_visible<P: Point, S: Sight<P> + ?Sized>(sight: &S, me: usize)
 
 /// The unit direction from robot `me` to robot `j`, global frame.
 pub(crate) fn direction<P: Point, S: Sight<P> + ?Sized>(sight: &S, me: usize, j: usize) -> P {
-    let pos = sight.positions();
-    (pos[j] - pos[me]).normalized()
+    (sight.position(j) - sight.position(me)).normalized()
 }

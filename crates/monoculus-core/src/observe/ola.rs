@@ -119,26 +119,31 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
             Some(t) => P::to_global(t, global),
             None => global,
         };
-        let pos = self.sight.positions();
-        let p = pos[self.me];
+        let at = |k: usize| self.sight.position(k);
+        let p = at(self.me);
         let vision = *self.sight.vision();
         if vision.fat() {
             let seen = self.sight.visible_points(self.me);
-            return seen.iter().any(|&k| (pos[k] - p).dot(normal) > eps);
+            return seen.iter().any(|&k| (at(k) - p).dot(normal) > eps);
         }
         if vision.limited() {
             let mut occupied = false;
             self.sight.for_each_within(self.me, vision.range, &mut |k| {
-                occupied |= distinct(p, pos[k], &vision) && (pos[k] - p).dot(normal) > eps;
+                let q = at(k);
+                occupied |= distinct(p, q, &vision) && (q - p).dot(normal) > eps;
             });
             return occupied;
         }
         if self.tilt.is_some() {
-            return pos.iter().any(|&q| (q - p).dot(normal) > eps);
+            return self
+                .sight
+                .positions()
+                .iter()
+                .any(|&q| (q - p).dot(normal) > eps);
         }
         let a = self.frame.global_axis(axis);
         let dir = side.sign() * self.frame.sign(axis); // +1: toward larger global coordinate
-        let p = self.sight.positions()[self.me].axis(a);
+        let p = p.axis(a);
         let (lo, hi) = self.sight.bounds();
         if dir > 0.0 {
             hi.axis(a) > p + eps
@@ -165,11 +170,10 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
         constraints: &[(usize, Side)],
         stream: &mut Stream,
     ) -> Option<P> {
-        let pos = self.sight.positions();
-        let p = pos[self.me];
+        let p = self.sight.position(self.me);
         let eps = self.sight.vision().eps_axis;
         let inside = |j: usize| {
-            let d = self.perceived(pos[j] - p);
+            let d = self.perceived(self.sight.position(j) - p);
             constraints
                 .iter()
                 .all(|&(k, side)| side.sign() * self.frame.local_coord(d, k) >= -eps)

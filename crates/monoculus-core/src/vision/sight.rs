@@ -11,8 +11,15 @@ use crate::geometry::Point;
 /// definition) and the engine's spatial index. Both must give the same answers; only
 /// their cost differs.
 pub trait Sight<P: Point>: Sync {
-    /// Positions of all robots, indexed by robot.
+    /// Positions of all robots, indexed by robot. A sight that locates robots one by
+    /// one (ASYNC's, where robots in mid-move are placed when asked) gathers them on the
+    /// first call: read [`Sight::position`] where one robot's is needed.
     fn positions(&self) -> &[P];
+
+    /// The position of robot `i`.
+    fn position(&self, i: usize) -> P {
+        self.positions()[i]
+    }
 
     /// The tolerances.
     fn vision(&self) -> &VisionParams;
@@ -43,7 +50,7 @@ pub trait Sight<P: Point>: Sync {
 
     /// The largest distance from robot `i` to any robot.
     fn farthest(&self, i: usize) -> f64 {
-        let p = self.positions()[i];
+        let p = self.position(i);
         self.positions()
             .iter()
             .map(|&q| (q - p).length())
@@ -53,7 +60,7 @@ pub trait Sight<P: Point>: Sync {
     /// Calls `f` with every robot farther than `radius` from robot `i`, in unspecified
     /// order.
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        let p = self.positions()[i];
+        let p = self.position(i);
         for (k, &q) in self.positions().iter().enumerate() {
             if (q - p).length() > radius {
                 f(k);

@@ -2,44 +2,34 @@
 
 use bevy_ecs::prelude::*;
 
-use super::shape::{in_disc, inner_disc};
+use super::kept_hull::KeptHull;
 use crate::IndexPoint;
 
 /// The hull of the committed points (every robot's position at the start of its phase
 /// and the destination of every decided move, the points whose hull Lemma 2 bounds),
-/// kept across ticks: a tick changes that set only by its events (a Look adds a
-/// destination, the end of a move removes where the move began), so the hull is taken
-/// again over all robots only when a point that may be one of its vertices is removed.
-/// Otherwise the points added outside the hull are joined to its vertices. Either way
-/// the vertex sequence is that of the chain over every committed point (every other
-/// point lies inside), so the measure is the same to the bit (checked against the full
-/// computation at every tick in debug builds, so in every test).
+/// kept across ticks ([`KeptHull`]): a tick changes that set only by its events (a
+/// Look adds a destination, the end of a move removes where the move began, the
+/// destination becoming the robot's position), so the hull is taken again only over
+/// the points outside its core when a point that may be a vertex is removed, and over
+/// every committed point only when the core leaves that hull. The vertex sequence is
+/// that of the chain over every committed point, so the measure is the same to the bit
+/// (checked against the full computation at every tick in debug builds, so in every
+/// test).
 ///
-/// In space, and for hulls of fewer than three vertices, it is taken over all robots
-/// at every tick.
+/// Point ids: `2 r` is robot r's position at the start of its phase, `2 r + 1` its
+/// destination. In space the hull is taken over all committed points at every tick.
 #[derive(Resource, Clone, Debug)]
 pub struct CommittedHull<P: IndexPoint> {
-    vertices: Vec<P>,
+    kept: KeptHull<P>,
     measure: f64,
-    /// Whether `vertices` is a polygon the exact inside test works on.
-    kept: bool,
-    /// A disc inside it: the cheap first test.
-    disc: (P, f64),
-    added: Vec<P>,
-    removed: Vec<P>,
 }
 
 impl<P: IndexPoint> CommittedHull<P> {
-    /// The hull of `initial` (no move decided yet), whose measure is `measure`.
-    pub fn new(initial: &[P], measure: f64) -> Self {
-        let vertices = P::hull_vertices(initial);
+    /// For `n` robots, no move decided yet, whose hull's measure is `measure`.
+    pub fn new(n: usize, measure: f64) -> Self {
         CommittedHull {
-            kept: vertices.len() >= 3,
-            disc: inner_disc(&vertices),
-            vertices,
+            kept: KeptHull::new(2 * n),
             measure,
-            added: Vec::new(),
-            removed: Vec::new(),
         }
     }
 
@@ -48,47 +38,27 @@ impl<P: IndexPoint> CommittedHull<P> {
         self.measure
     }
 
-    /// A Look decided a move to `p`.
-    pub fn add(&mut self, p: P) {
-        self.added.push(p);
+    /// A Look decided robot `robot`'s move to `p`.
+    pub fn decide(&mut self, robot: u32, p: P) {
+        self.kept.insert(2 * robot + 1, p);
     }
 
-    /// A move that began at `p` ended.
-    pub fn remove(&mut self, p: P) {
-        self.removed.push(p);
+    /// Robot `robot`'s move ended: where it began leaves the set, and its destination is
+    /// its position.
+    pub fn arrive(&mut self, robot: u32) {
+        self.kept.remove(2 * robot);
+        self.kept.rekey(2 * robot + 1, 2 * robot);
     }
 
     /// The measure of the hull after this tick's events; `all` lists every committed
-    /// point (a pass made twice), asked for only when the hull must be taken over all
-    /// of them.
-    pub fn measure<I: Iterator<Item = P>>(&mut self, all: impl Fn() -> I) -> f64 {
-        let disc = self.disc;
-        let inside = |hull: &[P], p: &P| in_disc(disc, *p) || P::strictly_inside(hull, *p);
-        if self.kept && self.removed.iter().all(|p| inside(&self.vertices, p)) {
-            let outside: Vec<P> = self
-                .added
-                .iter()
-                .filter(|p| !inside(&self.vertices, p))
-                .copied()
-                .collect();
-            if !outside.is_empty() {
-                let mut points = std::mem::take(&mut self.vertices);
-                points.extend(outside);
-                self.vertices = P::hull_vertices(&points);
-                self.measure = P::hull_measure(&self.vertices);
-                self.kept = self.vertices.len() >= 3;
-                // The hull grew: the old disc is still inside it.
-            }
+    /// point with its id (a pass made as often as needed), read only when the hull must
+    /// be taken over all of them.
+    pub fn measure<I: Iterator<Item = (u32, P)>>(&mut self, all: impl Fn() -> I) -> f64 {
+        self.measure = if P::DIM == 2 {
+            P::hull_measure(self.kept.vertices(all))
         } else {
-            // Only the points that may be vertices: the hull is that of all of them.
-            let points = P::hull_candidates_of(all);
-            self.measure = P::hull_measure(&points);
-            self.vertices = P::hull_vertices(&points);
-            self.kept = self.vertices.len() >= 3;
-            self.disc = inner_disc(&self.vertices);
-        }
-        self.added.clear();
-        self.removed.clear();
+            P::hull_measure(&P::hull_candidates_of(|| all().map(|(_, p)| p)))
+        };
         self.measure
     }
 }

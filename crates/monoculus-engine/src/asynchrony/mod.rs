@@ -6,6 +6,7 @@
 
 mod committed;
 mod components;
+mod kept_hull;
 mod roster;
 mod shape;
 mod sight;
@@ -15,7 +16,7 @@ mod systems;
 pub use committed::CommittedHull;
 pub use components::{AsyncClock, Phase, RobotEntities, Timing};
 pub use shape::KeptShape;
-pub use sight::LookSight;
+pub use sight::{Located, LookSight, Looking, TickSight};
 pub use spec::{AsyncSpec, AsyncStart, TickDist};
 pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};
 pub(crate) use systems::{START, duration, positions_now};

@@ -29,15 +29,29 @@ impl<T> Roster<T> {
 
     /// Removes `robot`; whether it was there.
     pub(crate) fn remove(&mut self, robot: u32) -> bool {
+        self.take(robot).is_some()
+    }
+
+    /// Removes `robot`, giving back its item if it was there.
+    pub(crate) fn take(&mut self, robot: u32) -> Option<T> {
         let at = std::mem::replace(&mut self.slot[robot as usize], ABSENT);
         if at == ABSENT {
-            return false;
+            return None;
         }
-        self.items.swap_remove(at as usize);
+        let (_, item) = self.items.swap_remove(at as usize);
         if let Some(&(moved, _)) = self.items.get(at as usize) {
             self.slot[moved as usize] = at;
         }
-        true
+        Some(item)
+    }
+
+    /// The item of `robot`, if it is there.
+    #[inline]
+    pub(crate) fn get(&self, robot: u32) -> Option<&T> {
+        match self.slot[robot as usize] {
+            ABSENT => None,
+            at => Some(&self.items[at as usize].1),
+        }
     }
 
     /// Removes every robot.

@@ -1,29 +1,44 @@
-//! [`LookSight`]: what ASYNC Looks see, kept from one tick to the next.
+//! [`LookSight`]: what ASYNC Looks see, kept from one tick to the next, and
+//! [`TickSight`], the sight of one tick's Looks.
+
+use std::sync::OnceLock;
 
 use bevy_ecs::prelude::*;
-use monoculus_core::vision::Sight;
+use monoculus_core::metrics::bounds;
+use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
 
 use super::Timing;
 use super::components::interpolate;
 use super::roster::Roster;
 use crate::IndexPoint;
+use crate::index::{Locate, SpatialIndex, prefetch};
 use crate::resources::{Params, SightBackend, SnapshotSight};
 use crate::systems::build_sight;
 
-/// The sight of the Looks of a tick, brought up to date at the next tick with Looks
-/// rather than taken afresh: only the robots in mid-move and those whose move ended
-/// since have other positions, and in the plane the band grid follows them (robots
-/// that move a little widen its queries, the few that move farther are tested one by
-/// one, and it is built again when too many did; see
-/// [`SpatialIndex::follow`](crate::SpatialIndex::follow)). So a tick costs the movers,
-/// not the swarm. Every answer is that of a sight taken afresh (tested).
+/// The sight of ASYNC's Looks, kept across ticks. In the plane it is a band grid over
+/// the positions of the tick it was made at ([`SpatialIndex::moving`]), which robots
+/// leave as they move: each robot in mid-move is given, when its move starts, a reach
+/// covering every position it takes until the grid's last tick (its segment is known
+/// from the Look that decided it), so nothing is done for it at the ticks in between,
+/// and a Look's queries place it on its segment only where they ask for it
+/// ([`TickSight`]). A robot whose reach would pass the grid's limit (two cells) is
+/// stale: tested one by one. The grid is made again at the first tick with Looks
+/// after its last tick, or when too many robots are stale. So a tick costs its events
+/// and its Looks, whatever the time resolution. Every answer is that of a sight taken
+/// afresh over the tick's positions (tested, with robots in mid-move).
+///
+/// Elsewhere (space, the brute-force and R-tree backends, fat robots) a sight is taken
+/// afresh at every tick with Looks.
 #[derive(Resource)]
 pub struct LookSight<P: IndexPoint> {
-    sight: Option<SnapshotSight<P>>,
     /// Robots in mid-move.
     movers: Roster<Mover<P>>,
-    /// Robots whose move ended since the sight was last brought up to date.
-    arrived: Vec<u32>,
+    /// The moving index, once made.
+    moving: Option<Moving<P>>,
+    /// The sight taken afresh, where no moving index is kept.
+    snapshot: Option<SnapshotSight<P>>,
+    /// Looks since the moving index was made.
+    looks: usize,
 }
 
 /// A robot in mid-move, as [`Timing::position_at`] reads it (where it started is its
@@ -36,6 +51,7 @@ struct Mover<P> {
 }
 
 impl<P: IndexPoint> Mover<P> {
+    #[inline]
     fn at(&self, from: P, tick: u64) -> P {
         if self.until <= self.since {
             from
@@ -43,73 +59,340 @@ impl<P: IndexPoint> Mover<P> {
             interpolate(from, self.to, self.since, self.until, tick)
         }
     }
+
+    /// A disc the robot, leaving `from`, stays in at every tick from `first` (at or
+    /// after its start) to `last`: around the stretch of its segment between its
+    /// positions at those ticks (once arrived, the robot is at `to` itself), with room
+    /// for the rounding of the positions between.
+    fn disc(&self, from: P, first: u64, last: u64) -> (P, f64) {
+        let start = self.at(from, first);
+        let end = if last >= self.until {
+            self.to
+        } else {
+            self.at(from, last)
+        };
+        let scale = (0..P::DIM)
+            .map(|a| from.axis(a).abs().max(self.to.axis(a).abs()))
+            .fold(0.0, f64::max);
+        let centre = (start + end) * 0.5;
+        let reach = 0.5 * (end - start).length() * (1.0 + 1e-12) + 16.0 * f64::EPSILON * scale;
+        (centre, reach)
+    }
+}
+
+/// The moving index and what it was made over.
+struct Moving<P: IndexPoint> {
+    /// Over the positions at the tick it was made.
+    index: P::Index,
+    /// The tick it was made at.
+    made: u64,
+    /// The last tick at which the robots are within their reaches.
+    last: u64,
+    /// Stale robots beyond which the index is made again.
+    stale_limit: usize,
+}
+
+/// How far from its point a robot of the moving index may go, in cells.
+const LIMIT: f64 = 2.0;
+/// What a cell of drift adds to a Look (its walks visit that much more of the grid on
+/// either side, and robots in mid-move are candidates more often), in robots' worth of
+/// making the index (measured: about 3,000 instructions a Look against 280 a robot).
+const DRIFT_COST: f64 = 11.0;
+
+/// Stale robots beyond which the moving index is made again (they are tested one by
+/// one in every query): n / 64, between 8 and 64.
+fn stale_limit(n: usize) -> usize {
+    (n / 64).clamp(8, 64)
 }
 
 impl<P: IndexPoint> LookSight<P> {
     /// For a swarm of `n` robots, all at rest.
     pub fn new(n: usize) -> Self {
         LookSight {
-            sight: None,
             movers: Roster::new(n),
-            arrived: Vec::new(),
+            moving: None,
+            snapshot: None,
+            looks: 0,
         }
     }
 
     /// Robot `robot` starts a move from `from` (its clock says where to and when).
     pub fn depart(&mut self, robot: u32, from: P, timing: Timing<P>) {
         debug_assert!(timing.pending.is_some() && timing.phase == super::Phase::Move);
-        self.movers.insert(
-            robot,
-            Mover {
-                to: timing.target(from),
-                since: timing.since,
-                until: timing.until,
-            },
-        );
-    }
-
-    /// Robot `robot` ended its move, and is at rest at its target.
-    pub fn arrive(&mut self, robot: u32) {
-        if self.movers.remove(robot) {
-            self.arrived.push(robot);
+        let mover = Mover {
+            to: timing.target(from),
+            since: timing.since,
+            until: timing.until,
+        };
+        self.movers.insert(robot, mover);
+        if let Some(m) = &mut self.moving
+            && timing.since <= m.last
+        {
+            let (centre, reach) = mover.disc(from, timing.since, m.last);
+            m.index.follow(robot as usize, centre, reach);
         }
     }
 
-    /// The sight at `tick`: robots at rest at their points in `settled`, movers on
-    /// their segments.
-    pub fn at(&mut self, params: &Params, tick: u64, settled: &[P]) -> &SnapshotSight<P> {
-        let changes = self
-            .arrived
-            .drain(..)
-            .map(|r| (r, settled[r as usize]))
-            .chain(
-                self.movers
-                    .iter()
-                    .map(|&(r, m)| (r, m.at(settled[r as usize], tick))),
-            );
-        let followed = matches!(params.backend, SightBackend::Index) && !params.vision.fat();
-        self.sight = Some(match self.sight.take() {
-            Some(SnapshotSight::Index(mut s)) if followed => {
-                s.advance(changes);
-                SnapshotSight::Index(s)
+    /// Robot `robot` ended its move at tick `tick`, and is at rest at its target `at`.
+    pub fn arrive(&mut self, robot: u32, at: P, tick: u64) {
+        self.movers.remove(robot);
+        if let Some(m) = &mut self.moving
+            && tick <= m.last
+        {
+            m.index.follow(robot as usize, at, 0.0);
+        }
+    }
+
+    /// The sight at `tick` for `looks` Looks: robots at rest at their points in
+    /// `settled`, movers on their segments.
+    pub fn at<'a>(
+        &'a mut self,
+        params: &Params,
+        tick: u64,
+        settled: &'a [P],
+        looks: usize,
+    ) -> Looking<'a, P> {
+        let moving = P::Index::can_move()
+            && matches!(params.backend, SightBackend::Index)
+            && !params.vision.fat();
+        if moving {
+            let current = self
+                .moving
+                .as_ref()
+                .is_some_and(|m| tick <= m.last && m.index.stale_robots() <= m.stale_limit);
+            if !current {
+                self.moving = self.remake(tick, settled);
+                self.looks = 0;
             }
-            previous => {
-                let mut now = match previous {
-                    Some(SnapshotSight::Index(s)) => s.into_positions(),
-                    Some(SnapshotSight::Rtree(s)) => s.into_positions(),
-                    Some(SnapshotSight::Exact(s)) => s.positions().to_vec(),
-                    None => settled.to_vec(),
-                };
-                for (r, p) in changes {
-                    now[r as usize] = p;
-                }
-                if followed {
-                    SnapshotSight::Index(crate::IndexedSight::following(now, params.vision))
-                } else {
-                    build_sight(params, now)
-                }
+            self.looks += looks;
+        }
+        let movers = &self.movers;
+        let at = Located {
+            settled,
+            movers,
+            tick,
+        };
+        if let Some(m) = self.moving.as_ref().filter(|_| moving) {
+            // At the tick it was made, every robot is at the point the index holds.
+            if m.made == tick {
+                let base = m.index.points();
+                return Looking::Made(TickSight::new(base, base.len(), &m.index, params.vision));
             }
+            return Looking::Moving(TickSight::new(at, settled.len(), &m.index, params.vision));
+        }
+        let mut now = match self.snapshot.take() {
+            Some(SnapshotSight::Index(s)) => s.into_positions(),
+            Some(SnapshotSight::Rtree(s)) => s.into_positions(),
+            Some(SnapshotSight::Exact(s)) => s.positions().to_vec(),
+            None => Vec::new(),
+        };
+        now.clear();
+        now.extend((0..settled.len()).map(|k| at.at(k)));
+        Looking::Snapshot(self.snapshot.insert(build_sight(params, now)))
+    }
+
+    /// A moving index over the positions at `tick` (`None` where the dimension's index
+    /// cannot move). Where Looks are many (at the rate since the last index, the drift
+    /// a stretch of ticks would take would cost them more than making an index at
+    /// every tick with Looks), it serves this tick only, with every robot at its point.
+    /// Otherwise robots may go [`LIMIT`] cells from their points, and it serves until
+    /// all but half the stale limit of the robots in mid-move would have gone farther;
+    /// every robot in mid-move is given its disc up to that tick.
+    fn remake(&mut self, tick: u64, settled: &[P]) -> Option<Moving<P>> {
+        let rate = self.moving.take().map_or(f64::INFINITY, |m| {
+            self.looks as f64 / (tick - m.made).max(1) as f64
         });
-        self.sight.as_ref().expect("just set")
+        let mut base = settled.to_vec();
+        for &(k, m) in self.movers.iter() {
+            base[k as usize] = m.at(settled[k as usize], tick);
+        }
+        let mut index = P::Index::moving(base)?;
+        let n = settled.len();
+        let stale_limit = stale_limit(n);
+        let limit = LIMIT * index.cell_size();
+        index.allow(limit);
+        let last = if rate * DRIFT_COST * LIMIT >= n as f64 {
+            tick
+        } else {
+            // The last tick each mover stays within the limit, for those that would
+            // pass it (a little short of it: the disc taken then is that of the ends,
+            // plus room for rounding). A mover's disc reaches as far from its point now
+            // as the way it goes.
+            let within = limit * (1.0 - 1e-6);
+            let mut passing: Vec<u64> = self
+                .movers
+                .iter()
+                .filter_map(|&(k, m)| {
+                    let from = settled[k as usize];
+                    if 2.0 * m.disc(from, tick, m.until).1 <= within {
+                        return None;
+                    }
+                    let length = (m.to - from).length();
+                    let ticks = within / length * (m.until - m.since) as f64;
+                    Some(tick.saturating_add(ticks as u64))
+                })
+                .collect();
+            let allowed = stale_limit / 2;
+            if passing.len() <= allowed {
+                u64::MAX
+            } else {
+                *passing.select_nth_unstable(allowed).1
+            }
+        };
+        for &(k, m) in self.movers.iter() {
+            let (centre, reach) = m.disc(settled[k as usize], tick, last);
+            index.follow(k as usize, centre, reach);
+        }
+        Some(Moving {
+            index,
+            made: tick,
+            last,
+            stale_limit,
+        })
+    }
+}
+
+/// What the Looks of one tick see: through the moving index, or through a sight taken
+/// afresh.
+pub enum Looking<'a, P: IndexPoint> {
+    /// Through the moving index, at the tick it was made (every robot at its point).
+    Made(TickSight<'a, P, &'a [P]>),
+    /// Through the moving index, robots in mid-move placed when asked.
+    Moving(TickSight<'a, P, Located<'a, P>>),
+    /// Taken afresh.
+    Snapshot(&'a SnapshotSight<P>),
+}
+
+/// Where each robot is at one tick: at rest at its settled point, or in mid-move on its
+/// segment, placed when asked.
+#[derive(Clone, Copy)]
+pub struct Located<'a, P: IndexPoint> {
+    settled: &'a [P],
+    movers: &'a Roster<Mover<P>>,
+    tick: u64,
+}
+
+impl<P: IndexPoint> Locate<P> for Located<'_, P> {
+    #[inline]
+    fn at(&self, k: usize) -> P {
+        match self.movers.get(k as u32) {
+            Some(m) => m.at(self.settled[k], self.tick),
+            None => self.settled[k],
+        }
+    }
+
+    #[inline]
+    fn prefetch(&self, k: usize) {
+        if let Some(p) = self.settled.get(k) {
+            prefetch(p);
+        }
+    }
+}
+
+/// The [`Sight`] of one tick's Looks through the moving index: robots in mid-move are
+/// placed on their segments when a query asks for them; what needs every position (a
+/// full look, the hull for the farthest robot, the bounding box) gathers them once.
+pub struct TickSight<'a, P: IndexPoint, L> {
+    at: L,
+    len: usize,
+    index: &'a P::Index,
+    vision: VisionParams,
+    all: OnceLock<Vec<P>>,
+    hull: OnceLock<Vec<P>>,
+    bounds: OnceLock<(P, P)>,
+}
+
+impl<'a, P: IndexPoint, L: Locate<P>> TickSight<'a, P, L> {
+    fn new(at: L, len: usize, index: &'a P::Index, vision: VisionParams) -> Self {
+        TickSight {
+            at,
+            len,
+            index,
+            vision,
+            all: OnceLock::new(),
+            hull: OnceLock::new(),
+            bounds: OnceLock::new(),
+        }
+    }
+}
+
+impl<'a, P: IndexPoint> TickSight<'a, P, &'a [P]> {
+    /// A sight through the [moving](SpatialIndex::moving) `index` with the robots at
+    /// `positions`, each within the disc the index was given for it (or stale): what
+    /// ASYNC's Looks see, with the positions given whole (for tests and benchmarks).
+    pub fn over(positions: &'a [P], index: &'a P::Index, vision: VisionParams) -> Self {
+        TickSight::new(positions, positions.len(), index, vision)
+    }
+}
+
+impl<P: IndexPoint, L: Locate<P>> Sight<P> for TickSight<'_, P, L> {
+    fn positions(&self) -> &[P] {
+        if let Some(all) = self.at.as_slice() {
+            return all;
+        }
+        self.all
+            .get_or_init(|| (0..self.len).map(|k| self.at.at(k)).collect())
+    }
+
+    #[inline]
+    fn position(&self, i: usize) -> P {
+        self.at.at(i)
+    }
+
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn vision(&self) -> &VisionParams {
+        &self.vision
+    }
+
+    fn bounds(&self) -> (P, P) {
+        *self.bounds.get_or_init(|| bounds(self.positions()))
+    }
+
+    fn sees(&self, i: usize, j: usize) -> bool {
+        let (p, q) = (self.at.at(i), self.at.at(j));
+        if i == j || !distinct(p, q, &self.vision) || !in_range(p, q, &self.vision) {
+            return false;
+        }
+        self.index.clear(&self.at, &self.vision, i, j)
+    }
+
+    fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        self.index.for_each_within(&self.at, i, radius, f);
+    }
+
+    fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
+        self.index.nearest_first(&self.at, i)
+    }
+
+    /// The farthest robot is a hull vertex.
+    fn farthest(&self, i: usize) -> f64 {
+        let p = self.at.at(i);
+        let hull = self.hull.get_or_init(|| P::hull_vertices(self.positions()));
+        let set: &[P] = if hull.is_empty() {
+            self.positions()
+        } else {
+            hull
+        };
+        set.iter().map(|&q| (q - p).length()).fold(0.0, f64::max)
+    }
+
+    fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        self.index.for_each_beyond(&self.at, i, radius, f);
+    }
+
+    fn alone(&self, j: usize) -> bool {
+        self.index.alone(&self.at, &self.vision, j)
+    }
+
+    fn neighbours(&self, i: usize) -> Vec<usize> {
+        self.index.neighbours(&self.at, i)
+    }
+
+    fn visible_points(&self, i: usize) -> Vec<usize> {
+        self.index
+            .visible_points(self.positions(), &self.vision, i, &|j| self.sees(i, j))
     }
 }

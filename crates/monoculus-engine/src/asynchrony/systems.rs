@@ -5,6 +5,7 @@ use monoculus_core::algorithms::RobotMemory;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
+use super::sight::Looking;
 use super::{
     AsyncClock, AsyncSpec, CommittedHull, KeptShape, LookSight, Phase, RobotEntities, TickDist,
     Timing,
@@ -94,12 +95,12 @@ pub fn finish_moves<P: IndexPoint>(
         if timing.phase == Phase::Move && timing.until == t {
             if timing.pending.is_some() {
                 if params.is_correct(r as usize) {
-                    committed.remove(positions.points[r as usize]);
+                    committed.arrive(r);
                 }
                 let target = timing.target(positions.points[r as usize]);
                 positions.points[r as usize] = target;
                 kept_shape.arrive(r, target);
-                sight.arrive(r);
+                sight.arrive(r, target, t);
                 clock.move_ended = true;
                 clock.in_motion -= 1;
                 timing.pending = None;
@@ -229,15 +230,17 @@ pub fn look<P: IndexPoint>(
             (r, timing.cycle, memory.map(|m| m.0))
         })
         .collect();
-    let outputs = match sight.at(&params, t, &positions.points) {
-        SnapshotSight::Index(s) => {
+    let outputs = match sight.at(&params, t, &positions.points, lookers.len()) {
+        Looking::Made(s) => decide_all(&params, &s, clock.epochs, &inputs),
+        Looking::Moving(s) => decide_all(&params, &s, clock.epochs, &inputs),
+        Looking::Snapshot(SnapshotSight::Index(s)) => {
             // Built here (if it must be), its two layouts in parallel, not by the first
             // decision while the other threads wait.
             s.build_index();
             decide_all(&params, s, clock.epochs, &inputs)
         }
-        SnapshotSight::Exact(s) => decide_all(&params, s, clock.epochs, &inputs),
-        SnapshotSight::Rtree(s) => decide_all(&params, s, clock.epochs, &inputs),
+        Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(&params, s, clock.epochs, &inputs),
+        Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(&params, s, clock.epochs, &inputs),
     };
     for (&r, (d, memory)) in lookers.iter().zip(outputs) {
         let (_, mut timing, stored) = robots
@@ -259,7 +262,7 @@ pub fn look<P: IndexPoint>(
             clock.move_decided = true;
             // As `committed_points` lists it (the correct robots' only).
             if params.is_correct(r as usize) {
-                committed.add(positions.points[r as usize] + d);
+                committed.decide(r, positions.points[r as usize] + d);
             }
         }
     }
@@ -271,13 +274,14 @@ pub fn look<P: IndexPoint>(
 
 /// The points whose hull Lemma 2 bounds under ASYNC: every robot's position at the
 /// start of its current phase and, for decided moves, the destination (a mover's
-/// current position lies between the two).
+/// current position lies between the two), with their ids in [`CommittedHull`]:
+/// `2 r` and `2 r + 1`.
 pub(crate) fn committed_points<P: IndexPoint>(
-    robots: impl Iterator<Item = (P, Timing<P>)>,
-) -> impl Iterator<Item = P> {
-    robots.flat_map(|(from, timing)| {
-        let destination = timing.pending.map(|d| from + d);
-        std::iter::once(from).chain(destination)
+    robots: impl Iterator<Item = (u32, P, Timing<P>)>,
+) -> impl Iterator<Item = (u32, P)> {
+    robots.flat_map(|(r, from, timing)| {
+        let destination = timing.pending.map(|d| (2 * r + 1, from + d));
+        std::iter::once((2 * r, from)).chain(destination)
     })
 }
 
@@ -318,7 +322,7 @@ pub fn account<P: IndexPoint>(
             robots
                 .iter()
                 .filter(|(r, _)| params.is_correct(r.index as usize))
-                .map(|(r, t)| (pos[r.index as usize], *t)),
+                .map(|(r, t)| (r.index, pos[r.index as usize], *t)),
         )
     };
     let committed_before = kept.last();
@@ -332,7 +336,7 @@ pub fn account<P: IndexPoint>(
                 let measure = kept.measure(all);
                 debug_assert_eq!(
                     measure.to_bits(),
-                    P::hull_measure(&all().collect::<Vec<_>>()).to_bits(),
+                    P::hull_measure(&all().map(|(_, p)| p).collect::<Vec<_>>()).to_bits(),
                     "the hull kept across ticks is the hull over all committed points"
                 );
                 measure

@@ -21,7 +21,8 @@ use super::{IndexPoint, SpatialIndex};
 /// A sight taken [after](IndexedSight::after) another in which few robots moved keeps
 /// the other's grid: the robots that moved since it was built are stale, skipped in
 /// its cells and tested one by one (late ConvergeQuadrant rounds move a handful of
-/// robots out of thousands).
+/// robots out of thousands). ASYNC's Looks see through a moving index instead
+/// ([`crate::asynchrony::TickSight`]).
 ///
 /// The index is the dimension's own ([`IndexPoint::Index`]) unless chosen: `I =
 /// SpaceIndex<DVec2>` puts the plane in an R-tree (`vision.backend = "rtree"`).
@@ -74,32 +75,6 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
         }
     }
 
-    /// A sight over `positions` whose index [follows](Self::advance) the robots as they
-    /// move (the band grid in the plane; other indices are made again).
-    pub fn following(positions: Vec<P>, vision: VisionParams) -> Self {
-        IndexedSight {
-            bounds: OnceLock::new(),
-            index: I::following(&positions),
-            positions,
-            hull: OnceLock::new(),
-            vision,
-        }
-    }
-
-    /// Robots moved: each `(k, p)` puts robot k at p. The index follows them if it can
-    /// (see [`SpatialIndex::follow`]), else a new one is made over the new positions;
-    /// every answer is that of a sight made afresh over them (tested). Returns whether
-    /// the index was kept.
-    pub fn advance(&mut self, changes: impl Iterator<Item = (u32, P)>) -> bool {
-        self.bounds = OnceLock::new();
-        self.hull = OnceLock::new();
-        let kept = self.index.follow(&mut self.positions, changes);
-        if !kept {
-            self.index = I::following(&self.positions);
-        }
-        kept
-    }
-
     /// Builds the index now (else it is built by the first query that needs it).
     pub fn build_index(&self) {
         self.index.build(&self.positions);
@@ -134,15 +109,17 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
         if i == j || !distinct(p, q, &self.vision) || !in_range(p, q, &self.vision) {
             return false;
         }
-        self.index.clear(&self.positions, &self.vision, i, j)
+        self.index
+            .clear(self.positions.as_slice(), &self.vision, i, j)
     }
 
     fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        self.index.for_each_within(&self.positions, i, radius, f);
+        self.index
+            .for_each_within(self.positions.as_slice(), i, radius, f);
     }
 
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
-        self.index.nearest_first(&self.positions, i)
+        self.index.nearest_first(self.positions.as_slice(), i)
     }
 
     /// The farthest robot is a hull vertex: O(h) after the hull (O(n log n), once).
@@ -158,15 +135,16 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
     }
 
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        self.index.for_each_beyond(&self.positions, i, radius, f);
+        self.index
+            .for_each_beyond(self.positions.as_slice(), i, radius, f);
     }
 
     fn alone(&self, j: usize) -> bool {
-        self.index.alone(&self.positions, &self.vision, j)
+        self.index.alone(self.positions.as_slice(), &self.vision, j)
     }
 
     fn neighbours(&self, i: usize) -> Vec<usize> {
-        self.index.neighbours(&self.positions, i)
+        self.index.neighbours(self.positions.as_slice(), i)
     }
 
     fn visible_points(&self, i: usize) -> Vec<usize> {

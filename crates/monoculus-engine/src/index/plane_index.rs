@@ -1,6 +1,6 @@
 //! [`PlaneIndex`]: the band grid, for d = 2, kept across snapshots in which few robots
 //! moved (those are [`Stale`]: skipped in its cells and tested one by one), or, under
-//! ASYNC, [followed](SpatialIndex::follow) as robots move a little at every tick.
+//! ASYNC, [moving](SpatialIndex::moving): robots carry their own reach as they move.
 
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -8,88 +8,76 @@ use std::sync::atomic::{AtomicU8, Ordering};
 use glam::DVec2;
 use monoculus_core::vision::{VisionParams, blocks, visible_points_sweep_2d};
 
-use super::{SegmentGrid, SpatialIndex, Stale, Tube, prefetch};
+use super::{Locate, SegmentGrid, SpatialIndex, Stale, Tube, prefetch};
 
 /// The band grid over a snapshot in the plane.
 pub struct PlaneIndex {
     /// The grid (built on first use, or inherited).
     grid: OnceLock<Box<SegmentGrid>>,
-    /// The robots whose positions differ from those `grid` was built over.
+    /// The robots whose positions differ from those `grid` was built over (of a moving
+    /// index: those beyond its limit).
     stale: Stale,
     /// Per robot, whether no other robot was within `eps_pos` of it where `grid` was
     /// built: 0 not asked yet, 1 yes, 2 no or unsure. Filled in as asked, by any thread
-    /// (the answer does not depend on who asks). Within `eps_pos` plus twice the
-    /// drift limit of a followed index.
+    /// (the answer does not depend on who asks). Of a moving index: within `eps_pos`
+    /// plus twice its limit.
     isolated: OnceLock<Box<[AtomicU8]>>,
-    /// Set for an index that follows moving robots.
-    follow: Option<Follow>,
+    /// Set for an index over moving robots.
+    moving: Option<Moving>,
 }
 
-/// What a followed index knows of how far robots are from the points of its grid.
+/// What a moving index knows of where robots are.
 ///
-/// Every robot not stale is within `drift` of the point `base` holds for it, the
-/// point the grid was built over, and `drift` never exceeds [`DRIFT_LIMIT`] cells: a
-/// robot that moves farther becomes stale. Each query widens by `drift` what it
-/// takes from the cells (the walk's tube, a radius, the reach of the rings of cells)
-/// and ends in the same exact test on the current positions, so its answer is that of
-/// a grid built afresh (tested with robots in mid-move).
+/// Every robot not stale stays within a disc, stored in the grid in place of its point
+/// (the line filter tests the disc), that lies within `drift` of the point the grid was
+/// built over, its `base`; `drift` is at most `limit`. Each query widens by `drift` the
+/// cells it takes (the walk's bands and cells, a radius, the reach of the rings of
+/// cells) and ends in the same exact test on the current positions, so its answer is
+/// that of a grid built afresh (tested with robots in mid-move).
 #[derive(Debug)]
-struct Follow {
-    /// The positions the grid was built over (set when it is).
-    base: OnceLock<Vec<DVec2>>,
-    /// The largest squared distance of a robot not stale from its point in `base`, as
-    /// computed.
-    drift2: f64,
-    /// Its root, rounded up: within it of the true distance.
+struct Moving {
+    base: Vec<DVec2>,
+    limit: f64,
     drift: f64,
 }
 
-/// The farthest a followed robot may be from its grid point before it is stale, in
-/// cells (a tenth: measured a little faster than a quarter, see docs/performance.md).
-const DRIFT_LIMIT: f64 = 0.1;
-
 impl PlaneIndex {
-    fn grid(&self, pos: &[DVec2]) -> &SegmentGrid {
-        self.grid.get_or_init(|| Box::new(self.make(pos, false)))
-    }
-
-    fn make(&self, pos: &[DVec2], parallel: bool) -> SegmentGrid {
-        if let Some(f) = &self.follow {
-            // A new grid is built only where nothing moved since the index was made.
-            let _ = f.base.set(pos.to_vec());
-        }
-        if parallel {
-            SegmentGrid::new_parallel(pos)
-        } else {
-            SegmentGrid::new(pos)
-        }
+    /// The grid, built over the positions of the first query if not yet (an index over
+    /// moving robots is built when made).
+    fn grid<L: Locate<DVec2> + ?Sized>(&self, pos: &L) -> &SegmentGrid {
+        self.grid.get_or_init(|| {
+            Box::new(SegmentGrid::new(
+                pos.as_slice()
+                    .expect("a grid is built over a snapshot's positions"),
+            ))
+        })
     }
 
     /// How far a robot not stale may be from its grid point.
     fn drift(&self) -> f64 {
-        self.follow.as_ref().map_or(0.0, |f| f.drift)
+        self.moving.as_ref().map_or(0.0, |m| m.drift)
     }
 
     /// The radius within which `isolated` tells other robots apart.
-    fn isolation_radius(&self, grid: &SegmentGrid, v: &VisionParams) -> f64 {
-        match self.follow {
-            Some(_) => v.eps_pos + 2.0 * DRIFT_LIMIT * grid.cell_size(),
+    fn isolation_radius(&self, v: &VisionParams) -> f64 {
+        match &self.moving {
+            Some(m) => v.eps_pos + 2.0 * m.limit,
             None => v.eps_pos,
         }
     }
 
     /// Whether no robot other than `k` was within `eps_pos` of it where the grid was
     /// built.
-    fn was_isolated(&self, pos: &[DVec2], v: &VisionParams, k: usize) -> bool {
+    fn was_isolated<L: Locate<DVec2> + ?Sized>(&self, pos: &L, v: &VisionParams, k: usize) -> bool {
+        let grid = self.grid(pos);
         let known = self.isolated.get_or_init(|| {
             std::iter::repeat_with(|| AtomicU8::new(0))
-                .take(pos.len())
+                .take(grid.len())
                 .collect()
         });
         match known[k].load(Ordering::Relaxed) {
             0 => {
-                let grid = self.grid(pos);
-                let yes = grid.isolated(k, self.isolation_radius(grid, v));
+                let yes = grid.isolated(k, self.isolation_radius(v));
                 known[k].store(if yes { 1 } else { 2 }, Ordering::Relaxed);
                 yes
             }
@@ -104,18 +92,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
             grid: OnceLock::new(),
             stale: Stale::none(positions.len()),
             isolated: OnceLock::new(),
-            follow: None,
-        }
-    }
-
-    fn following(positions: &[DVec2]) -> Self {
-        PlaneIndex {
-            follow: Some(Follow {
-                base: OnceLock::new(),
-                drift2: 0.0,
-                drift: 0.0,
-            }),
-            ..Self::new(positions)
+            moving: None,
         }
     }
 
@@ -124,7 +101,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
     fn after(previous: Self, before: &[DVec2], now: &[DVec2], same_vision: bool) -> Self {
         let fresh = || Self::new(now);
         let n = now.len();
-        if before.len() != n || previous.follow.is_some() {
+        if before.len() != n || previous.moving.is_some() {
             return fresh();
         }
         let Some(grid) = previous.grid.into_inner() else {
@@ -152,58 +129,84 @@ impl SpatialIndex<DVec2> for PlaneIndex {
             } else {
                 OnceLock::new()
             },
-            follow: None,
+            moving: None,
         }
     }
 
-    /// A robot that stays within a tenth of a cell of its grid point widens the drift
-    /// every query allows for; one that goes farther is stale. `false` (make a new
-    /// index) where more than n / 64 robots (at least 8) are stale or one left the grid's
-    /// box.
-    fn follow(&mut self, pos: &mut [DVec2], changes: impl Iterator<Item = (u32, DVec2)>) -> bool {
-        let (Some(f), Some(grid)) = (self.follow.as_mut(), self.grid.get()) else {
-            for (k, p) in changes {
-                pos[k as usize] = p;
-            }
-            // A followed grid not built yet will be, over the positions of its first
-            // query.
-            return self.follow.is_some();
-        };
-        let base = f.base.get().expect("a followed grid records its points");
-        let limit = DRIFT_LIMIT * grid.cell_size();
-        let (limit2, mut drift2) = (limit * limit, f.drift2);
-        let mut inside = true;
-        for (k, p) in changes {
-            let k = k as usize;
-            if pos[k] == p {
-                continue;
-            }
-            pos[k] = p;
-            inside &= grid.covers(p.x, p.y);
-            let d2 = (p - base[k]).length_squared();
-            if d2 <= limit2 {
-                drift2 = drift2.max(d2);
-            } else {
-                self.stale.insert(k);
-            }
-        }
-        // Rounded up: the distance computed is within a few ulps of the true one.
-        f.drift2 = drift2;
-        f.drift = drift2.sqrt() * (1.0 + 1e-12) + f64::MIN_POSITIVE;
-        inside && self.stale.len() <= (pos.len() / 64).max(8)
+    fn can_move() -> bool {
+        true
     }
 
-    /// Builds the grid, both layouts at once (ASYNC builds a grid at every tick with
-    /// Looks, between parallel decisions).
+    /// The grid, its two layouts built at once, with room for a disc per robot.
+    fn moving(positions: Vec<DVec2>) -> Option<Self> {
+        let grid = SegmentGrid::moving(&positions);
+        Some(PlaneIndex {
+            grid: OnceLock::from(Box::new(grid)),
+            stale: Stale::none(positions.len()),
+            isolated: OnceLock::new(),
+            moving: Some(Moving {
+                base: positions,
+                limit: 0.0,
+                drift: 0.0,
+            }),
+        })
+    }
+
+    fn points(&self) -> &[DVec2] {
+        &self.moving.as_ref().expect("a moving index").base
+    }
+
+    fn cell_size(&self) -> f64 {
+        self.grid
+            .get()
+            .expect("a moving index is built when made")
+            .cell_size()
+    }
+
+    fn allow(&mut self, limit: f64) {
+        self.moving.as_mut().expect("a moving index").limit = limit;
+    }
+
+    fn follow(&mut self, k: usize, centre: DVec2, reach: f64) {
+        let m = self.moving.as_mut().expect("a moving index");
+        if self.stale.contains(k) {
+            return;
+        }
+        // How far from its point the disc reaches, rounded up; a NaN makes the robot
+        // stale.
+        let excursion = ((centre - m.base[k]).length() + reach) * (1.0 + 1e-12);
+        let within = matches!(
+            excursion.partial_cmp(&m.limit),
+            Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+        );
+        if !within {
+            self.stale.insert(k);
+            return;
+        }
+        m.drift = m.drift.max(excursion);
+        self.grid
+            .get_mut()
+            .expect("a moving index is built when made")
+            .set_disc(k, [centre.x, centre.y], reach);
+    }
+
+    /// Builds the grid, both layouts at once.
     fn build(&self, pos: &[DVec2]) {
-        self.grid.get_or_init(|| Box::new(self.make(pos, true)));
+        self.grid
+            .get_or_init(|| Box::new(SegmentGrid::new_parallel(pos)));
     }
 
     fn stale_robots(&self) -> usize {
         self.stale.len()
     }
 
-    fn clear(&self, pos: &[DVec2], v: &VisionParams, i: usize, j: usize) -> bool {
+    fn clear<L: Locate<DVec2> + ?Sized>(
+        &self,
+        pos: &L,
+        v: &VisionParams,
+        i: usize,
+        j: usize,
+    ) -> bool {
         // A visible robot is asked next whether it is alone (`Sight::alone`): what that
         // reads arrives during the walk (hints, no effect on results).
         let grid = self.grid(pos);
@@ -211,12 +214,12 @@ impl SpatialIndex<DVec2> for PlaneIndex {
             prefetch(&known[j]);
         }
         grid.prefetch_isolated(j);
-        let (p, q) = (pos[i], pos[j]);
-        let blocker = |k: usize| k != i && k != j && blocks(p, pos[k], q, v);
+        let (p, q) = (pos.at(i), pos.at(j));
+        let blocker = |k: usize| k != i && k != j && blocks(p, pos.at(k), q, v);
         if v.fat() {
             // The grid's walk follows a line, not a fat robot's disc: every robot is
             // asked (the engine sees fat robots through the R-tree instead).
-            return !(0..pos.len()).any(blocker);
+            return !(0..grid.len()).any(blocker);
         }
         if grid.blocked(pos, i, j, v, self.drift()) {
             return false;
@@ -225,27 +228,33 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         // farther from its line (with twice the room, for rounding) is not asked.
         let (d, tol) = (q - p, Tube::new(p, q, v.eps_ang, 0.0).tolerance());
         let reach = 2.0 * tol * d.length();
-        !self
-            .stale
-            .iter()
-            .any(|k| (pos[k] - p).perp_dot(d).abs() <= reach && blocker(k))
+        !self.stale.iter().any(|k| {
+            let r = pos.at(k);
+            (r - p).perp_dot(d).abs() <= reach && k != i && k != j && blocks(p, r, q, v)
+        })
     }
 
-    fn for_each_within(&self, pos: &[DVec2], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        let p = pos[i];
+    fn for_each_within<L: Locate<DVec2> + ?Sized>(
+        &self,
+        pos: &L,
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    ) {
+        let p = pos.at(i);
         // The same exact test as the oracle, on the grid's candidates.
         let mut test = |k: usize| {
-            if k != i && (pos[k] - p).length() <= radius {
+            if k != i && (pos.at(k) - p).length() <= radius {
                 f(k);
             }
         };
-        let radius_cells = radius + self.drift();
+        let drift = self.drift();
         if self.stale.is_empty() {
             self.grid(pos)
-                .for_each_near(p.x, p.y, radius_cells, &mut test);
+                .for_each_reaching(p.x, p.y, radius, drift, &mut test);
         } else {
             self.grid(pos)
-                .for_each_near(p.x, p.y, radius_cells, &mut |k| {
+                .for_each_reaching(p.x, p.y, radius, drift, &mut |k| {
                     if !self.stale.contains(k) {
                         test(k)
                     }
@@ -254,9 +263,9 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         }
     }
 
-    fn nearest_first<'a>(
+    fn nearest_first<'a, L: Locate<DVec2> + ?Sized>(
         &'a self,
-        pos: &'a [DVec2],
+        pos: &'a L,
         i: usize,
     ) -> Box<dyn Iterator<Item = usize> + 'a> {
         Box::new(
@@ -265,7 +274,13 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         )
     }
 
-    fn for_each_beyond(&self, pos: &[DVec2], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+    fn for_each_beyond<L: Locate<DVec2> + ?Sized>(
+        &self,
+        pos: &L,
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    ) {
         let grid = self.grid(pos);
         let drift = self.drift();
         if self.stale.is_empty() {
@@ -276,27 +291,27 @@ impl SpatialIndex<DVec2> for PlaneIndex {
                 f(k)
             }
         });
-        let p = pos[i];
+        let p = pos.at(i);
         for k in self.stale.iter() {
-            if (pos[k] - p).length() > radius {
+            if (pos.at(k) - p).length() > radius {
                 f(k);
             }
         }
     }
 
-    fn alone(&self, pos: &[DVec2], v: &VisionParams, j: usize) -> bool {
+    fn alone<L: Locate<DVec2> + ?Sized>(&self, pos: &L, v: &VisionParams, j: usize) -> bool {
         if self.stale.contains(j) || !self.was_isolated(pos, v, j) {
             return false;
         }
         // Robots that did not move are where they were; the others are tested here.
-        let p = pos[j];
+        let p = pos.at(j);
         self.stale
             .iter()
-            .all(|k| k == j || (pos[k] - p).length() > v.eps_pos)
+            .all(|k| k == j || (pos.at(k) - p).length() > v.eps_pos)
     }
 
-    fn neighbours(&self, pos: &[DVec2], i: usize) -> Vec<usize> {
-        let p = pos[i];
+    fn neighbours<L: Locate<DVec2> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize> {
+        let p = pos.at(i);
         // About a dozen robots in the 2 x 3 cells around (pre-sized: grown one by one,
         // the vector cost a tenth of a round).
         let mut out = Vec::with_capacity(32);
@@ -308,13 +323,14 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         });
         // Robots are mostly decided in index order, each thread a run of them: the next
         // one's cells are asked for now (a hint, no effect on results).
-        if let Some(next) = pos.get(i + 1) {
+        if i + 1 < grid.len() {
+            let next = pos.at(i + 1);
             grid.prefetch_near(next.x, next.y, grid.cell_size());
         }
         // The first few are asked about at once (`count_visible_up_to`): their positions,
         // for the lines of sight (a hint, no effect on results).
         for &k in out.iter().take(4) {
-            prefetch(&pos[k]);
+            pos.prefetch(k);
         }
         out
     }

@@ -6,7 +6,7 @@ use std::sync::OnceLock;
 use monoculus_core::vision::{VisionParams, blocks, representatives};
 use rstar::{RTree, primitives::GeomWithData};
 
-use super::{IndexPoint, SpatialIndex, Tube};
+use super::{IndexPoint, Locate, SpatialIndex, Tube};
 
 /// The R-tree over a snapshot in space, built on the first visibility question (many
 /// activations, OLA inner robots, need only the bounding box).
@@ -15,8 +15,11 @@ pub struct SpaceIndex<P: IndexPoint> {
 }
 
 impl<P: IndexPoint> SpaceIndex<P> {
-    fn tree(&self, pos: &[P]) -> &RTree<GeomWithData<P::Array, u32>> {
+    fn tree<L: Locate<P> + ?Sized>(&self, pos: &L) -> &RTree<GeomWithData<P::Array, u32>> {
         self.tree.get_or_init(|| {
+            let pos = pos
+                .as_slice()
+                .expect("a tree is built over a snapshot's positions");
             let items: Vec<GeomWithData<P::Array, u32>> = pos
                 .iter()
                 .enumerate()
@@ -43,33 +46,43 @@ impl<P: IndexPoint> SpatialIndex<P> for SpaceIndex<P> {
         0
     }
 
-    fn clear(&self, pos: &[P], v: &VisionParams, i: usize, j: usize) -> bool {
-        let (p, q) = (pos[i], pos[j]);
+    fn clear<L: Locate<P> + ?Sized>(&self, pos: &L, v: &VisionParams, i: usize, j: usize) -> bool {
+        let (p, q) = (pos.at(i), pos.at(j));
         let tube = Tube::new(p, q, v.eps_ang, v.robot_radius);
         !self
             .tree(pos)
             .locate_with_selection_function(tube)
             .any(|leaf| {
                 let k = leaf.data as usize;
-                k != i && k != j && blocks(p, pos[k], q, v)
+                k != i && k != j && blocks(p, pos.at(k), q, v)
             })
     }
 
-    fn for_each_within(&self, pos: &[P], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        let p = pos[i];
+    fn for_each_within<L: Locate<P> + ?Sized>(
+        &self,
+        pos: &L,
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    ) {
+        let p = pos.at(i);
         // Ask the tree for a slightly larger radius, then decide with the same test as
         // the oracle, so both agree on points at the boundary.
         let r2 = radius * radius * (1.0 + 1e-12) + f64::MIN_POSITIVE;
         for leaf in self.tree(pos).locate_within_distance(p.to_array(), r2) {
             let k = leaf.data as usize;
-            if k != i && (pos[k] - p).length() <= radius {
+            if k != i && (pos.at(k) - p).length() <= radius {
                 f(k);
             }
         }
     }
 
-    fn nearest_first<'a>(&'a self, pos: &'a [P], i: usize) -> Box<dyn Iterator<Item = usize> + 'a> {
-        let p = pos[i].to_array();
+    fn nearest_first<'a, L: Locate<P> + ?Sized>(
+        &'a self,
+        pos: &'a L,
+        i: usize,
+    ) -> Box<dyn Iterator<Item = usize> + 'a> {
+        let p = pos.at(i).to_array();
         Box::new(
             self.tree(pos)
                 .nearest_neighbor_iter(p)
@@ -79,25 +92,31 @@ impl<P: IndexPoint> SpatialIndex<P> for SpaceIndex<P> {
     }
 
     /// Tree nodes entirely within `radius` are skipped: O(robots beyond + boundary).
-    fn for_each_beyond(&self, pos: &[P], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        let p = pos[i];
+    fn for_each_beyond<L: Locate<P> + ?Sized>(
+        &self,
+        pos: &L,
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    ) {
+        let p = pos.at(i);
         let selection = Beyond::<P> {
             centre: p.to_array(),
             radius2: radius * radius * (1.0 - 1e-12),
         };
         for leaf in self.tree(pos).locate_with_selection_function(selection) {
             let k = leaf.data as usize;
-            if (pos[k] - p).length() > radius {
+            if (pos.at(k) - p).length() > radius {
                 f(k);
             }
         }
     }
 
-    fn alone(&self, _pos: &[P], _v: &VisionParams, _j: usize) -> bool {
+    fn alone<L: Locate<P> + ?Sized>(&self, _pos: &L, _v: &VisionParams, _j: usize) -> bool {
         false
     }
 
-    fn neighbours(&self, _pos: &[P], _i: usize) -> Vec<usize> {
+    fn neighbours<L: Locate<P> + ?Sized>(&self, _pos: &L, _i: usize) -> Vec<usize> {
         Vec::new()
     }
 

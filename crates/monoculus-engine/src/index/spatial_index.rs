@@ -5,9 +5,12 @@
 
 use monoculus_core::vision::VisionParams;
 
-/// An index over the positions of one snapshot, built on first use. Every method is given
-/// the positions the index was made for; every answer ends in the shared exact predicate,
-/// so it is the brute-force oracle's (tested).
+use super::Locate;
+
+/// An index over the positions of one snapshot, built on first use. Every query is given
+/// where the robots are (`pos`: the positions the index was made for, or, for a
+/// [moving](SpatialIndex::moving) index, where they are now); every answer ends in the
+/// shared exact predicate, so it is the brute-force oracle's (tested).
 pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// An index over `positions` (built when first asked).
     fn new(positions: &[P]) -> Self;
@@ -16,21 +19,43 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// (`before`): it may keep what `previous` built where few robots moved.
     fn after(previous: Self, before: &[P], now: &[P], same_vision: bool) -> Self;
 
-    /// An index over `positions` that may [follow](SpatialIndex::follow) them as robots
-    /// move (by default, one that cannot).
-    fn following(positions: &[P]) -> Self {
-        Self::new(positions)
+    /// Whether this index can be [moving](SpatialIndex::moving).
+    fn can_move() -> bool {
+        false
     }
 
-    /// Robots move: each `(k, p)` puts robot k at p in `pos`, the positions the index
-    /// was made for. Returns whether the index answers for the new `pos` (else make a
-    /// new one); answers after a follow are those of an index made afresh (by
-    /// default it cannot follow).
-    fn follow(&mut self, pos: &mut [P], changes: impl Iterator<Item = (u32, P)>) -> bool {
-        for (k, p) in changes {
-            pos[k as usize] = p;
-        }
-        false
+    /// An index over `positions`, built now, whose robots then move (ASYNC): each may
+    /// be given a disc it stays in ([`SpatialIndex::follow`]), and queries are asked
+    /// with the robots where they are at the time. How far from its point a disc may
+    /// reach is set by [`SpatialIndex::allow`] (until then, not at all). `None` where
+    /// this index cannot follow robots (the R-tree: a new one is made at every tick).
+    fn moving(_positions: Vec<P>) -> Option<Self> {
+        None
+    }
+
+    /// Of a [moving](SpatialIndex::moving) index: the side of its cells.
+    fn cell_size(&self) -> f64 {
+        unreachable!("only a moving index has cells to follow robots in")
+    }
+
+    /// Of a [moving](SpatialIndex::moving) index, before any robot is followed: how far
+    /// from its point a robot's disc may reach.
+    fn allow(&mut self, _limit: f64) {
+        unreachable!("only a moving index follows robots")
+    }
+
+    /// Of a [moving](SpatialIndex::moving) index: the points it was made over.
+    fn points(&self) -> &[P] {
+        unreachable!("only a moving index keeps its points")
+    }
+
+    /// Of a [moving](SpatialIndex::moving) index: robot `k` stays within `reach` of
+    /// `centre` from now until the index is made again (a robot given no disc stays at
+    /// its point). A disc reaching farther than [allowed](SpatialIndex::allow) from the
+    /// robot's point makes it stale: tested one by one, until the index is
+    /// made again.
+    fn follow(&mut self, _k: usize, _centre: P, _reach: f64) {
+        unreachable!("only a moving index follows robots")
     }
 
     /// Builds what is built on first use (a no-op for an index built at once), outside
@@ -38,26 +63,43 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// builds it.
     fn build(&self, _pos: &[P]) {}
 
-    /// Robots that moved since the index in use was built (0 for a fresh one).
+    /// Robots that moved since the index in use was built (0 for a fresh one), or, of a
+    /// moving index, the stale ones.
     fn stale_robots(&self) -> usize;
 
     /// Whether no robot blocks the view from `pos[i]` to `pos[j]` (two distinct points).
-    fn clear(&self, pos: &[P], v: &VisionParams, i: usize, j: usize) -> bool;
+    fn clear<L: Locate<P> + ?Sized>(&self, pos: &L, v: &VisionParams, i: usize, j: usize) -> bool;
 
     /// Calls `f` for every robot other than `i` within `radius` of it.
-    fn for_each_within(&self, pos: &[P], i: usize, radius: f64, f: &mut dyn FnMut(usize));
+    fn for_each_within<L: Locate<P> + ?Sized>(
+        &self,
+        pos: &L,
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    );
 
     /// The robots other than `i` in order of distance from it.
-    fn nearest_first<'a>(&'a self, pos: &'a [P], i: usize) -> Box<dyn Iterator<Item = usize> + 'a>;
+    fn nearest_first<'a, L: Locate<P> + ?Sized>(
+        &'a self,
+        pos: &'a L,
+        i: usize,
+    ) -> Box<dyn Iterator<Item = usize> + 'a>;
 
     /// Calls `f` for every robot farther than `radius` from `i`.
-    fn for_each_beyond(&self, pos: &[P], i: usize, radius: f64, f: &mut dyn FnMut(usize));
+    fn for_each_beyond<L: Locate<P> + ?Sized>(
+        &self,
+        pos: &L,
+        i: usize,
+        radius: f64,
+        f: &mut dyn FnMut(usize),
+    );
 
     /// Whether robot `j` is known to share its point with nobody (`false`: unknown).
-    fn alone(&self, pos: &[P], v: &VisionParams, j: usize) -> bool;
+    fn alone<L: Locate<P> + ?Sized>(&self, pos: &L, v: &VisionParams, j: usize) -> bool;
 
     /// Robots in the cells around `i` (empty where the index has no cells).
-    fn neighbours(&self, pos: &[P], i: usize) -> Vec<usize>;
+    fn neighbours<L: Locate<P> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize>;
 
     /// Every point `i` sees, each by the lowest index of its robots (a full look); `sees`
     /// is the sight's own line-of-sight test.

@@ -197,7 +197,7 @@ impl<P: IndexPoint> Simulation<P> {
         let mut world = World::new();
         let hull_initial = build::insert_resources(&mut world, params.clone(), &initial);
         if matches!(config.scheduler, SchedulerSpec::Async(_)) {
-            wiring::insert_async_resources(&mut world, &params, &initial, hull_initial);
+            wiring::insert_async_resources(&mut world, &initial, hull_initial);
         }
         let entities = build::spawn_robots(&mut world, &config, &initial);
         let correct = params.correct(&initial);

@@ -8,16 +8,15 @@ use super::*;
 /// in by [`wire_async`].
 pub(super) fn insert_async_resources<P: IndexPoint>(
     world: &mut World,
-    params: &Params,
     initial: &[P],
     hull_initial: f64,
 ) {
     world.insert_resource(AsyncClock::new(initial.len()));
-    world.insert_resource(asynchrony::CommittedHull::new(
-        &params.correct(initial),
+    world.insert_resource(asynchrony::CommittedHull::<P>::new(
+        initial.len(),
         hull_initial,
     ));
-    world.insert_resource(asynchrony::KeptShape::new(initial));
+    world.insert_resource(asynchrony::KeptShape::<P>::new(initial.len()));
     world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
     world.insert_resource(RobotEntities(Vec::new()));
 }

@@ -37,6 +37,10 @@ pub(super) struct Bands {
     /// filter that widens its tolerance by the rounding (see [`SegmentGrid::blocked`]).
     /// Followed by [`LANES`] NaN points, so that a filter may read whole chunks.
     pub(super) coords: Vec<[f32; 2]>,
+    /// For a grid over moving robots (empty otherwise): how far the robot of each place
+    /// may be from its stored point, in the same order, padded like `coords` (see
+    /// [`SegmentGrid::set_reach`]).
+    pub(super) reach: Vec<f32>,
 }
 
 impl Bands {
@@ -67,6 +71,7 @@ impl Bands {
             place: vec![0; points.len()],
             // Padded (see [`LANES`]) with points that pass no filter.
             coords: vec![[f32::NAN; 2]; points.len() + LANES],
+            reach: Vec::new(),
         };
         let slot: Vec<u32> = points
             .iter()

@@ -2,21 +2,22 @@
 
 use monoculus_core::geometry::Point;
 
+use super::super::Locate;
 use super::SegmentGrid;
 
 impl SegmentGrid {
     /// Calls `f` with every robot farther than `radius` from robot `i`: per band, the
     /// cells wholly within the disc are skipped. O(bands + robots beyond + boundary).
     /// Every robot is within `drift` of the point the grid was built over.
-    pub fn for_each_beyond<P: Point>(
+    pub fn for_each_beyond<P: Point, L: Locate<P> + ?Sized>(
         &self,
-        positions: &[P],
+        positions: &L,
         i: usize,
         radius: f64,
         drift: f64,
         f: &mut dyn FnMut(usize),
     ) {
-        let p = positions[i];
+        let p = positions.at(i);
         let (x, y) = (p.axis(0), p.axis(1));
         let g = &self.rows;
         // Room for the rounding of cell edges and of robots' cells.
@@ -26,7 +27,7 @@ impl SegmentGrid {
         let mut emit = |range: std::ops::Range<usize>| {
             for s in range {
                 let k = g.items[s] as usize;
-                if (positions[k] - p).length() > radius {
+                if (positions.at(k) - p).length() > radius {
                     f(k);
                 }
             }

@@ -14,6 +14,8 @@ pub(super) struct Filter {
     pub(super) slack: f64,
     pub(super) along_max: f64,
     pub(super) band: f64,
+    /// The line's length.
+    pub(super) len: f64,
     pub(super) single: bool,
     pub(super) line: Line,
 }
@@ -28,6 +30,21 @@ impl Filter {
             | ((along > -self.slack)
                 & (along < self.along_max)
                 & ((rx * dy - ry * dx).abs() <= self.band))
+    }
+
+    /// [`Filter::near`] for a robot that may be up to `reach` from its stored point
+    /// (`along` and the cross product each move by at most `reach` times the line's
+    /// length).
+    #[inline(always)]
+    pub(super) fn near_within(&self, &[x, y]: &[f32; 2], reach: f32) -> bool {
+        let (rx, ry) = (f64::from(x) - self.origin[0], f64::from(y) - self.origin[1]);
+        let [dx, dy] = self.d;
+        let room = f64::from(reach) * self.len * (1.0 + 1e-9);
+        let along = rx * dx + ry * dy;
+        !self.single
+            | ((along > -self.slack - room)
+                & (along < self.along_max + room)
+                & ((rx * dy - ry * dx).abs() <= self.band + room))
     }
 }
 
@@ -59,7 +76,9 @@ impl Line {
         let u = 2f64.powi(-24);
         // `n` is a unit vector up to a few ulps of double precision, covered by the
         // factor on `w`.
-        let w = (w * (1.0 + 1e-12) + 8.0 * u * (extent + c.abs()) * (1.0 + 1e-6)) * (1.0 + 2.0 * u);
+        // The last factor also leaves room for rounding a sum `w + reach`
+        // ([`Line::any_within`]).
+        let w = (w * (1.0 + 1e-12) + 8.0 * u * (extent + c.abs()) * (1.0 + 1e-6)) * (1.0 + 1e-6);
         let sound = len > 0.0 && (extent + c.abs() + w).is_finite() && extent < 1e30 && w < 1e30;
         Line {
             n: [n[0] as f32, n[1] as f32],
@@ -87,6 +106,50 @@ impl Line {
             let mut hit = false;
             for (at, &[x, y]) in (s as u32..).zip(chunk) {
                 hit |= ((nx * x + ny * y - c).abs() <= w) & (at != ends[0]) & (at != ends[1]);
+            }
+            if hit {
+                return true;
+            }
+            s += LANES;
+        }
+        false
+    }
+
+    /// [`Line::any`] for robots that may each be up to their `reach` (same places as
+    /// `coords`) from their stored points. A reach is stored rounded up with room for
+    /// the rounding of the single-precision sum `w + reach`, which `w` also leaves.
+    #[inline(always)]
+    pub(super) fn any_within(
+        &self,
+        coords: &[[f32; 2]],
+        reach: &[f32],
+        s0: usize,
+        s1: usize,
+        ends: [u32; 2],
+    ) -> bool {
+        if !self.sound {
+            return s0 < s1;
+        }
+        let ([nx, ny], c, w) = (self.n, self.c, self.w);
+        let mut s = s0;
+        while s < s1 {
+            let (Some(chunk), Some(room)) = (
+                coords
+                    .get(s..s + LANES)
+                    .and_then(|c| <&[[f32; 2]; LANES]>::try_from(c).ok()),
+                reach
+                    .get(s..s + LANES)
+                    .and_then(|r| <&[f32; LANES]>::try_from(r).ok()),
+            ) else {
+                return true;
+            };
+            let mut hit = false;
+            for lane in 0..LANES {
+                let [x, y] = chunk[lane];
+                let at = (s + lane) as u32;
+                hit |= ((nx * x + ny * y - c).abs() <= w + room[lane])
+                    & (at != ends[0])
+                    & (at != ends[1]);
             }
             if hit {
                 return true;

@@ -97,6 +97,39 @@ impl SegmentGrid {
         Self::with_spacing(points, spacing, lo, hi, parallel)
     }
 
+    /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
+    /// given a disc it stays in ([`SegmentGrid::set_disc`]); until then its point.
+    pub fn moving<P: Point + Sync>(points: &[P]) -> Self {
+        let mut grid = Self::build(points, true);
+        for g in [&mut grid.rows, &mut grid.columns] {
+            g.reach = vec![0.0; g.coords.len()];
+        }
+        grid
+    }
+
+    /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of
+    /// `centre`: the grid's line filter tests that disc in place of its point. The
+    /// robot stays in its cell, so walks must be given as their drift how far from the
+    /// point the grid was built over the disc may reach.
+    pub fn set_disc(&mut self, k: usize, centre: [f64; 2], reach: f64) {
+        // Rounded up, with room for the single-precision sum the filter takes (see
+        // `Line::any_within`).
+        let mut r = (reach * (1.0 + 1e-6)) as f32;
+        if f64::from(r) < reach * (1.0 + 1e-7) {
+            r = r.next_up();
+        }
+        let stored = [
+            (centre[0] - self.lo[0]) as f32,
+            (centre[1] - self.lo[1]) as f32,
+        ];
+        for g in [&mut self.rows, &mut self.columns] {
+            debug_assert!(!g.reach.is_empty(), "a grid for moving robots");
+            let s = g.place[k] as usize;
+            g.coords[s] = stored;
+            g.reach[s] = r;
+        }
+    }
+
     /// A grid over `points` in the box `[lo, hi]` (theirs) with cells `spacing` wide.
     fn with_spacing<P: Point + Sync>(
         points: &[P],
@@ -130,6 +163,16 @@ impl SegmentGrid {
     /// walks holds for points in the box).
     pub fn covers(&self, x: f64, y: f64) -> bool {
         (self.lo[0] <= x) & (x <= self.hi[0]) & (self.lo[1] <= y) & (y <= self.hi[1])
+    }
+
+    /// The number of robots in the grid.
+    pub fn len(&self) -> usize {
+        self.rows.place.len()
+    }
+
+    /// Whether the grid holds no robot.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
 
     /// The mean spacing between robots (the side of a cell).

@@ -33,6 +33,41 @@ impl SegmentGrid {
         }
     }
 
+    /// Calls `f` with every robot that may lie within `radius` of `(x, y)`, every robot
+    /// being within `drift` of the point the grid was built over: the robots of the cells
+    /// meeting the square of half-side `radius + drift`; of a
+    /// [moving](SegmentGrid::moving) grid, only those whose disc comes within `radius`
+    /// (with room for the rounding of stored centres).
+    pub fn for_each_reaching(
+        &self,
+        x: f64,
+        y: f64,
+        radius: f64,
+        drift: f64,
+        f: &mut dyn FnMut(usize),
+    ) {
+        let g = &self.rows;
+        let wide = radius + drift;
+        if g.reach.is_empty() {
+            return self.for_each_near(x, y, wide, f);
+        }
+        let extent = self.lo[0].abs() + self.lo[1].abs() + x.abs() + y.abs();
+        let room = 4.0 * (self.rounding + drift * 2f64.powi(-23))
+            + 16.0 * f64::EPSILON * extent
+            + 1e-9 * radius;
+        let (rx, ry) = (x - self.lo[0], y - self.lo[1]);
+        for r in g.band(y - wide)..=g.band(y + wide) {
+            for s in g.slice(r, x - wide, x + wide) {
+                let [u, v] = g.coords[s].map(f64::from);
+                let within = radius + f64::from(g.reach[s]) + room;
+                let (du, dv) = (u - rx, v - ry);
+                if du * du + dv * dv <= within * within {
+                    f(g.items[s] as usize);
+                }
+            }
+        }
+    }
+
     /// Whether certainly no other robot lies within `radius` of robot `k`, where the
     /// grid was built: the robots of the cells near its stored point, tested on stored
     /// coordinates with room for their rounding. `false` when unsure (a radius not

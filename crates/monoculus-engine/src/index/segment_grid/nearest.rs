@@ -2,6 +2,7 @@
 
 use monoculus_core::geometry::Point;
 
+use super::super::Locate;
 use super::bands::Bands;
 use super::{SegmentGrid, Stale};
 
@@ -11,19 +12,19 @@ impl SegmentGrid {
     /// one. O(k log k) for the first k. The `stale` robots are skipped in the cells
     /// and queued at once from their current positions; every other robot is within
     /// `drift` of the point the grid was built over.
-    pub fn nearest_first<'a, P: Point>(
+    pub fn nearest_first<'a, P: Point, L: Locate<P> + ?Sized>(
         &'a self,
-        positions: &'a [P],
+        positions: &'a L,
         i: usize,
         stale: &'a Stale,
         drift: f64,
     ) -> impl Iterator<Item = usize> + 'a {
-        let p = positions[i];
+        let p = positions.at(i);
         let g = &self.rows;
         let heap = stale
             .iter()
             .filter(|&k| k != i)
-            .map(|k| std::cmp::Reverse(((positions[k] - p).length().to_bits(), k)))
+            .map(|k| std::cmp::Reverse(((positions.at(k) - p).length().to_bits(), k)))
             .collect();
         Nearest {
             grid: g,
@@ -42,9 +43,9 @@ impl SegmentGrid {
 }
 
 /// The iterator of [`SegmentGrid::nearest_first`].
-pub(super) struct Nearest<'a, P: Point> {
+pub(super) struct Nearest<'a, P: Point, L: ?Sized> {
     pub(super) grid: &'a Bands,
-    pub(super) positions: &'a [P],
+    pub(super) positions: &'a L,
     pub(super) i: usize,
     pub(super) p: P,
     /// The observer's cell and band.
@@ -63,7 +64,7 @@ pub(super) struct Nearest<'a, P: Point> {
     pub(super) drift: f64,
 }
 
-impl<P: Point> Nearest<'_, P> {
+impl<P: Point, L: Locate<P> + ?Sized> Nearest<'_, P, L> {
     /// Visits the next ring of cells; `false` if the grid is exhausted.
     pub(super) fn expand(&mut self) -> bool {
         let g = self.grid;
@@ -79,7 +80,7 @@ impl<P: Point> Nearest<'_, P> {
             for s in range {
                 let j = g.items[s] as usize;
                 if j != self.i && !self.stale.contains(j) {
-                    let d = (self.positions[j] - self.p).length();
+                    let d = (self.positions.at(j) - self.p).length();
                     heap.push(std::cmp::Reverse((d.to_bits(), j)));
                 }
             }
@@ -112,7 +113,7 @@ impl<P: Point> Nearest<'_, P> {
     }
 }
 
-impl<P: Point> Iterator for Nearest<'_, P> {
+impl<P: Point, L: Locate<P> + ?Sized> Iterator for Nearest<'_, P, L> {
     type Item = usize;
 
     fn next(&mut self) -> Option<usize> {

@@ -3,7 +3,7 @@
 
 use monoculus_core::vision::{VisionParams, blocks};
 
-use super::super::{IndexPoint, Tube};
+use super::super::{IndexPoint, Locate, Tube};
 use super::SegmentGrid;
 use super::filter::{Filter, Line};
 use super::prefetch::prefetch;
@@ -12,10 +12,12 @@ use super::slots::{float, lower, raise};
 impl SegmentGrid {
     /// Whether some robot other than `i` and `j` blocks the view from `positions[i]` to
     /// `positions[j]`, every robot's position being within `drift` of the point the grid
-    /// was built over (0 for a grid over `positions` themselves).
-    pub fn blocked<P: IndexPoint>(
+    /// was built over (0 for a grid over `positions` themselves; for a
+    /// [moving](SegmentGrid::moving) grid, the largest reach, each robot being within its
+    /// own).
+    pub fn blocked<P: IndexPoint, L: Locate<P> + ?Sized>(
         &self,
-        positions: &[P],
+        positions: &L,
         i: usize,
         j: usize,
         v: &VisionParams,
@@ -38,9 +40,9 @@ impl SegmentGrid {
     /// instruction instead of four (measured: see docs/performance.md).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn blocked_avx2<P: IndexPoint>(
+    fn blocked_avx2<P: IndexPoint, L: Locate<P> + ?Sized>(
         &self,
-        positions: &[P],
+        positions: &L,
         i: usize,
         j: usize,
         v: &VisionParams,
@@ -51,35 +53,41 @@ impl SegmentGrid {
 
     /// The body of [`Self::blocked`].
     #[inline(always)]
-    fn walk<P: IndexPoint>(
+    fn walk<P: IndexPoint, L: Locate<P> + ?Sized>(
         &self,
-        positions: &[P],
+        positions: &L,
         i: usize,
         j: usize,
         v: &VisionParams,
         drift: f64,
     ) -> bool {
-        let (p, q) = (positions[i], positions[j]);
+        let (p, q) = (positions.at(i), positions.at(j));
         let tube = Tube::new(p, q, v.eps_ang, 0.0);
         // Every blocker lies within `tube.tolerance()` of the segment (the blocking cone
         // and room for rounding in the exact test), so the point the grid holds for it
-        // within `tol`.
-        let tol = tube.tolerance() + drift;
+        // within `tube.tolerance() + drift`: the cells walked. A moving grid's filter
+        // gives each robot its own reach; otherwise the filter allows the drift too.
+        let reaching = !self.rows.reach.is_empty();
+        let tol = tube.tolerance() + if reaching { 0.0 } else { drift };
+        let tol_cells = tube.tolerance() + drift;
         let d = q - p;
         let len = d.length();
         let (px, py, dx, dy) = (p.axis(0), p.axis(1), d.axis(0), d.axis(1));
         // The filter below works on stored coordinates, each off by at most `rounding`
         // (plus double rounding of the shift to the swarm's corner): that moves `along`
         // and the cross product by at most `slack`.
+        // A moving grid's discs may lie up to `drift` outside the box, their stored
+        // centres rounded as coordinates that much larger.
         let err = self.rounding
+            + 2.0 * drift * 2f64.powi(-24)
             + 8.0
                 * f64::EPSILON
                 * (px.abs() + py.abs() + self.lo[0].abs() + self.lo[1].abs() + len);
         let slack = 2.0 * err * (dx.abs() + dy.abs());
         let band = 2.0 * tol * len + slack;
         // A blocker lies strictly between p and q along the line; the grid's point for
-        // it up to `drift` before or beyond.
-        let slack = slack + drift * len;
+        // it up to `drift` before or beyond (a moving grid: its own reach).
+        let slack = slack + if reaching { 0.0 } else { drift * len };
         let along_max = len * len + slack;
         let (rpx, rpy) = (px - self.lo[0], py - self.lo[1]);
         // Walk the bands running along the major axis `a`.
@@ -99,8 +107,8 @@ impl SegmentGrid {
         // either axis. Where the line crosses a band edge, a blocker just across the
         // edge lies within `tol_b * cos / sin` of the crossing along the major axis
         // (tested); `tol_b = tol` would do, twice that leaves room.
-        let tol_b = 2.0 * tol;
-        let (a_lo, a_hi) = (pa.min(pa + da) - tol, pa.max(pa + da) + tol);
+        let tol_b = 2.0 * tol_cells;
+        let (a_lo, a_hi) = (pa.min(pa + da) - tol_cells, pa.max(pa + da) + tol_cells);
         let (b_lo, b_hi) = (pb.min(pb + db) - tol_b, pb.max(pb + db) + tol_b);
         let (r0, r1) = (g.band(b_lo), g.band(b_hi));
         // Rounding in the inverse below is covered by this much room on the major axis.
@@ -114,13 +122,14 @@ impl SegmentGrid {
         let inv_slope = da / db;
         // Cheap filter: within twice the tube's radius of the line, strictly between p
         // and q (widened by the rounding of stored coordinates).
-        let extent = self.hi[0] - self.lo[0] + self.hi[1] - self.lo[1];
+        let extent = self.hi[0] - self.lo[0] + self.hi[1] - self.lo[1] + 2.0 * drift;
         let filter = Filter {
             origin: [rpx, rpy],
             d: [dx, dy],
             slack,
             along_max,
             band,
+            len,
             single: self.single,
             line: Line::new([rpx, rpy], [dx, dy], len, tol + 2.0 * err, extent),
         };
@@ -171,12 +180,28 @@ impl SegmentGrid {
             for &(s0, s1) in &slices[..m] {
                 // Candidates are rare: one branch-free pass over the slice first.
                 let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
+                if reaching {
+                    if !filter.line.any_within(&g.coords, &g.reach, s0, s1, ends) {
+                        continue;
+                    }
+                    for s in s0..s1 {
+                        let k = g.items[s] as usize;
+                        if filter.near_within(&g.coords[s], g.reach[s])
+                            && k != i
+                            && k != j
+                            && blocks(p, positions.at(k), q, v)
+                        {
+                            return true;
+                        }
+                    }
+                    continue;
+                }
                 if !filter.line.any(&g.coords, s0, s1, ends) {
                     continue;
                 }
                 for s in s0..s1 {
                     let k = g.items[s] as usize;
-                    if near(&g.coords[s]) && k != i && k != j && blocks(p, positions[k], q, v) {
+                    if near(&g.coords[s]) && k != i && k != j && blocks(p, positions.at(k), q, v) {
                         return true;
                     }
                 }

@@ -1,0 +1,275 @@
+//! [`KeptHull`]: the hull of a set of points that gains and loses points one at a time,
+//! kept across ticks.
+
+use super::roster::Roster;
+use super::shape::{in_disc, inner_disc};
+use crate::IndexPoint;
+
+/// The hull of a set of points, each known by an id, that gains and loses points one at
+/// a time (ASYNC's committed points, its robots at rest), kept so that a tick costs
+/// about its events rather than a pass over the set.
+///
+/// When the hull is taken over the whole set (at the start, and whenever what is kept
+/// no longer shows the hull), a *core* is chosen: the hull of a sample of the points,
+/// leaving out the outermost few percent. Points strictly inside the core are not kept;
+/// the others are, by id, and the hull is that of the kept points. It is the hull of
+/// the whole set as long as the core lies strictly inside it, for then every point not
+/// kept does too, and an exact chain keeps no interior point: the vertex sequence, and
+/// every measure taken from it, is the same to the bit (checked against the full
+/// computation at every tick in debug builds). Removing a point that may be a vertex
+/// makes the hull be taken again over the kept points (a few percent of the set), and
+/// only if the core then leaves it over the whole set.
+///
+/// Where the set's hull has fewer than three vertices (a line of robots), or in space,
+/// every point is kept.
+#[derive(Clone, Debug)]
+pub(crate) struct KeptHull<P> {
+    /// The core, counter-clockwise; empty where nothing is left out.
+    core: Vec<P>,
+    /// A disc inside the core: the cheap first test.
+    core_disc: (P, f64),
+    /// Counts the cores chosen (what was classified against the core must be again when
+    /// it changes).
+    generation: u64,
+    /// The points not strictly inside the core, by id.
+    kept: Roster<P>,
+    /// The hull of the kept points (once `ready`, unless `shrunk`).
+    hull: Vec<P>,
+    /// A disc inside `hull`.
+    hull_disc: (P, f64),
+    /// Points kept outside `hull` since it was taken.
+    grown: Vec<P>,
+    /// Whether a point that may be a vertex of `hull` was removed.
+    shrunk: bool,
+    /// Whether the core and the kept points are set up.
+    ready: bool,
+}
+
+/// The fraction of the points left outside the core: 1/32, but at least 256 of them.
+fn outside_fraction(n: usize) -> f64 {
+    (256.0 / n.max(1) as f64).max(1.0 / 32.0)
+}
+
+/// Points sampled to choose the core.
+const SAMPLE: usize = 4096;
+
+impl<P: IndexPoint> KeptHull<P> {
+    /// For points with ids below `ids`; nothing is set up until the first
+    /// [`KeptHull::vertices`].
+    pub(crate) fn new(ids: usize) -> Self {
+        KeptHull {
+            core: Vec::new(),
+            core_disc: inner_disc(&[]),
+            generation: 0,
+            kept: Roster::new(ids),
+            hull: Vec::new(),
+            hull_disc: inner_disc(&[]),
+            grown: Vec::new(),
+            shrunk: false,
+            ready: false,
+        }
+    }
+
+    /// Whether `p` is certainly strictly inside the core (exact orientations).
+    pub(crate) fn in_core(&self, p: P) -> bool {
+        in_disc(self.core_disc, p) || P::strictly_inside(&self.core, p)
+    }
+
+    /// The core (empty where there is none).
+    pub(crate) fn core(&self) -> &[P] {
+        &self.core
+    }
+
+    /// Counts the cores chosen so far.
+    pub(crate) fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The set gains point `p`, by `id` (not in the set).
+    pub(crate) fn insert(&mut self, id: u32, p: P) {
+        if !self.ready || self.in_core(p) {
+            return;
+        }
+        self.kept.insert(id, p);
+        let inside = in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p);
+        if !(self.shrunk || inside) {
+            self.grown.push(p);
+        }
+    }
+
+    /// The set loses the point of `id`.
+    pub(crate) fn remove(&mut self, id: u32) {
+        if !self.ready {
+            return;
+        }
+        if let Some(p) = self.kept.take(id)
+            && !self.shrunk
+            && !(in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p))
+        {
+            self.shrunk = true;
+        }
+    }
+
+    /// The point of `from` is now known by `to` (not in the set).
+    pub(crate) fn rekey(&mut self, from: u32, to: u32) {
+        if let Some(p) = self.kept.take(from) {
+            self.kept.insert(to, p);
+        }
+    }
+
+    /// The vertices of the set's hull (as [`HullGeometry::hull_vertices`] gives them).
+    /// `all` lists every point of the set with its id (a pass made as often as needed),
+    /// read only when the hull must be taken over the whole set.
+    ///
+    /// [`HullGeometry::hull_vertices`]: monoculus_core::geometry::HullGeometry::hull_vertices
+    pub(crate) fn vertices<I: Iterator<Item = (u32, P)>>(&mut self, all: impl Fn() -> I) -> &[P] {
+        if self.ready && self.shrunk {
+            let kept = &self.kept;
+            self.hull = P::hull_vertices(&P::hull_candidates_of(|| kept.iter().map(|&(_, p)| p)));
+            // Without a core every point is kept: the hull is the set's.
+            self.ready = self.core.iter().all(|&q| P::strictly_inside(&self.hull, q));
+        } else if self.ready && !self.grown.is_empty() {
+            // The core is still inside: the hull only grew.
+            self.grown.extend_from_slice(&self.hull);
+            self.hull = P::hull_vertices(&self.grown);
+        }
+        if !self.ready {
+            self.rebuild(&all);
+        }
+        self.shrunk = false;
+        self.grown.clear();
+        self.hull_disc = inner_disc(&self.hull);
+        &self.hull
+    }
+
+    /// The hull over the whole set, a new core, the points outside it kept.
+    fn rebuild<I: Iterator<Item = (u32, P)>>(&mut self, all: &impl Fn() -> I) {
+        self.hull = P::hull_vertices(&P::hull_candidates_of(|| all().map(|(_, p)| p)));
+        self.core = if P::DIM == 2 && self.hull.len() >= 3 {
+            self.choose_core(all)
+        } else {
+            Vec::new()
+        };
+        self.core_disc = inner_disc(&self.core);
+        self.generation += 1;
+        self.kept.clear();
+        for (id, p) in all() {
+            if !self.in_core(p) {
+                self.kept.insert(id, p);
+            }
+        }
+        // Without a core every point is kept, and the hull is theirs.
+        self.ready = true;
+    }
+
+    /// The hull of a sample of the points, all but the outermost few percent by their
+    /// gauge (how far out toward the hull each lies, from the mean of its vertices).
+    fn choose_core<I: Iterator<Item = (u32, P)>>(&self, all: &impl Fn() -> I) -> Vec<P> {
+        let hull = &self.hull;
+        let h = hull.len();
+        let centre = hull.iter().fold(P::zero(), |c, &v| c + v) * (1.0 / h as f64);
+        // Each edge's outward normal and the extent of the hull along it.
+        let edges: Vec<(f64, f64, f64)> = (0..h)
+            .map(|i| {
+                let (a, b) = (hull[i], hull[(i + 1) % h]);
+                let (nx, ny) = (b.axis(1) - a.axis(1), a.axis(0) - b.axis(0));
+                let reach = (a.axis(0) - centre.axis(0)) * nx + (a.axis(1) - centre.axis(1)) * ny;
+                (nx, ny, reach)
+            })
+            .collect();
+        let gauge = |p: P| {
+            let (x, y) = (p.axis(0) - centre.axis(0), p.axis(1) - centre.axis(1));
+            edges
+                .iter()
+                .map(|&(nx, ny, reach)| (x * nx + y * ny) / reach)
+                .fold(0.0, f64::max)
+        };
+        let n = all().count();
+        let stride = n.div_ceil(SAMPLE).max(1);
+        let mut sample: Vec<(f64, P)> = all().step_by(stride).map(|(_, p)| (gauge(p), p)).collect();
+        let outside =
+            ((sample.len() as f64 * outside_fraction(n)).ceil() as usize).min(sample.len());
+        let inside = sample.len() - outside;
+        if inside < 3 {
+            return Vec::new();
+        }
+        sample.select_nth_unstable_by(inside - 1, |a, b| a.0.total_cmp(&b.0));
+        let core = P::hull_vertices(&sample[..inside].iter().map(|&(_, p)| p).collect::<Vec<_>>());
+        if core.len() < 3 { Vec::new() } else { core }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::KeptHull;
+    use glam::DVec2;
+    use monoculus_core::geometry::HullGeometry;
+    use monoculus_core::rng::Stream;
+
+    /// Points come and go (moved, as robots do, or dropped and added back), a few at a
+    /// time: after each batch the kept hull is the hull of the whole set, vertex for
+    /// vertex, on random, lattice, collinear and co-located sets, with the core taken
+    /// again over the set whenever the kept points no longer show it.
+    #[test]
+    fn the_kept_hull_is_the_hull_of_the_set() {
+        let mut rng = Stream::new(11, 0, 0, 0);
+        let n = 600;
+        let sets: Vec<(&str, Vec<DVec2>)> = vec![
+            (
+                "random",
+                (0..n)
+                    .map(|_| DVec2::new(rng.uniform_in(-5.0, 5.0), rng.uniform_in(-5.0, 5.0)))
+                    .collect(),
+            ),
+            (
+                "lattice",
+                (0..n)
+                    .map(|k| DVec2::new((k % 25) as f64, (k / 25) as f64))
+                    .collect(),
+            ),
+            (
+                "line",
+                (0..n).map(|k| DVec2::new(k as f64 * 0.1, 2.0)).collect(),
+            ),
+            (
+                "stacked",
+                (0..n)
+                    .map(|k| DVec2::new((k % 7) as f64, (k % 5) as f64))
+                    .collect(),
+            ),
+        ];
+        for (name, mut points) in sets {
+            let mut kept = KeptHull::new(n);
+            let mut present = vec![true; n];
+            let mut rebuilds = 0;
+            for round in 0..120 {
+                for _ in 0..(1 + rng.below(12)) {
+                    let k = rng.below(n);
+                    if present[k] {
+                        kept.remove(k as u32);
+                        present[k] = false;
+                    } else {
+                        // Back somewhere: near where it was, or far out, or onto another.
+                        points[k] = match rng.below(3) {
+                            0 => points[k] * 0.97,
+                            1 => points[k] * 1.5,
+                            _ => points[rng.below(n)],
+                        };
+                        kept.insert(k as u32, points[k]);
+                        present[k] = true;
+                    }
+                }
+                let set: Vec<(u32, DVec2)> = (0..n)
+                    .filter(|&k| present[k])
+                    .map(|k| (k as u32, points[k]))
+                    .collect();
+                let before = kept.generation();
+                let got = kept.vertices(|| set.iter().copied()).to_vec();
+                rebuilds += usize::from(kept.generation() != before);
+                let all: Vec<DVec2> = set.iter().map(|&(_, p)| p).collect();
+                assert_eq!(got, DVec2::hull_vertices(&all), "{name} round {round}");
+            }
+            assert!(rebuilds < 60, "{name}: the core is kept most of the time");
+        }
+    }
+}
