@@ -31,6 +31,9 @@ pub(crate) struct KeptHull<P> {
     /// Counts the cores chosen (what was classified against the core must be again when
     /// it changes).
     generation: u64,
+    /// Counts the times the hull shrank (what was found inside it must be looked at
+    /// again).
+    shrinks: u64,
     /// The points not strictly inside the core, by id.
     kept: Roster<P>,
     /// The hull of the kept points (once `ready`, unless `shrunk`).
@@ -61,6 +64,7 @@ impl<P: IndexPoint> KeptHull<P> {
             core: Vec::new(),
             core_disc: inner_disc(&[]),
             generation: 0,
+            shrinks: 0,
             kept: Roster::new(ids),
             hull: Vec::new(),
             hull_disc: inner_disc(&[]),
@@ -83,6 +87,17 @@ impl<P: IndexPoint> KeptHull<P> {
     /// Counts the cores chosen so far.
     pub(crate) fn generation(&self) -> u64 {
         self.generation
+    }
+
+    /// Counts the times the hull was taken again because a point that may have been a
+    /// vertex left.
+    pub(crate) fn shrinks(&self) -> u64 {
+        self.shrinks
+    }
+
+    /// The hull as last taken (it only grew since, unless a point left since).
+    pub(crate) fn hull(&self) -> &[P] {
+        &self.hull
     }
 
     /// The set gains point `p`, by `id` (not in the set).
@@ -124,6 +139,7 @@ impl<P: IndexPoint> KeptHull<P> {
     /// [`HullGeometry::hull_vertices`]: monoculus_core::geometry::HullGeometry::hull_vertices
     pub(crate) fn vertices<I: Iterator<Item = (u32, P)>>(&mut self, all: impl Fn() -> I) -> &[P] {
         if self.ready && self.shrunk {
+            self.shrinks += 1;
             let kept = &self.kept;
             self.hull = P::hull_vertices(&P::hull_candidates_of(|| kept.iter().map(|&(_, p)| p)));
             // Without a core every point is kept: the hull is the set's.

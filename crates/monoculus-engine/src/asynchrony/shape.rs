@@ -10,9 +10,10 @@ use crate::IndexPoint;
 use crate::resources::Shape;
 
 /// What the shape of the swarm at a tick (hull, diameter, extents) is computed from,
-/// kept across ticks: the hull of the robots at rest ([`KeptHull`], whose core is
-/// strictly inside it), and the robots in mid-move whose segment is not certainly
-/// strictly inside that core. Every other robot lies strictly inside a hull of robots
+/// kept across ticks: the hull of the robots at rest ([`KeptHull`]), and the robots in
+/// mid-move whose segment is not certainly strictly inside it (those inside its core
+/// are set aside until the core changes, those between the core and the hull are looked
+/// at again whenever the hull shrinks). Every other robot lies strictly inside a hull of robots
 /// of the swarm, so it is no vertex of the swarm's hull: the hull over these points has
 /// the vertices of the hull over all robots, and the measures (all taken from the
 /// vertices, extents included) are the same to the bit (checked against the full
@@ -23,10 +24,12 @@ use crate::resources::Shape;
 pub struct KeptShape<P: IndexPoint> {
     /// The robots at rest, by robot.
     rest: KeptHull<P>,
-    /// Movers whose segment may leave the core of `rest`: robot, start point, clock.
+    /// Movers whose segment may leave the hull of `rest`: robot, start point, clock.
     outside: Roster<(P, Timing<P>)>,
-    /// The core `outside` was sorted against.
-    seen: u64,
+    /// Movers whose segment was strictly inside the hull of `rest`, not its core.
+    between: Roster<(P, Timing<P>)>,
+    /// The core and the shrinks of `rest` the movers were sorted against.
+    seen: (u64, u64),
 }
 
 impl<P: IndexPoint> KeptShape<P> {
@@ -35,18 +38,15 @@ impl<P: IndexPoint> KeptShape<P> {
         KeptShape {
             rest: KeptHull::new(n),
             outside: Roster::new(n),
-            seen: 0,
+            between: Roster::new(n),
+            seen: (0, 0),
         }
     }
 
     /// Whether the whole segment of a mover, and every point within the rounding of
-    /// an interpolation along it, lies strictly inside the core at rest: the corners of
-    /// the boxes of that size around both ends do.
-    fn certainly_inside(&self, from: P, to: P) -> bool {
-        let core = self.rest.core();
-        if core.is_empty() {
-            return false;
-        }
+    /// an interpolation along it, lies strictly inside the polygon (`inside` its exact
+    /// test): the corners of the boxes of that size around both ends do.
+    fn certainly_inside(from: P, to: P, inside: impl Fn(P) -> bool) -> bool {
         let scale = (0..P::DIM)
             .map(|a| from.axis(a).abs().max(to.axis(a).abs()))
             .fold(0.0, f64::max);
@@ -57,14 +57,24 @@ impl<P: IndexPoint> KeptShape<P> {
                     let sign = if corner >> a & 1 == 1 { e } else { -e };
                     q + P::unit_axis(a) * sign
                 });
-                self.rest.in_core(q)
+                inside(q)
             })
         })
     }
 
-    /// Keeps a mover among those that may leave the core unless it certainly does not.
+    /// Sorts a mover: set aside inside the core, between the core and the hull, or
+    /// outside.
     fn track(&mut self, robot: u32, from: P, timing: Timing<P>) {
-        if !self.certainly_inside(from, timing.target(from)) {
+        let to = timing.target(from);
+        if !self.rest.core().is_empty()
+            && Self::certainly_inside(from, to, |q| self.rest.in_core(q))
+        {
+            return;
+        }
+        let hull = self.rest.hull();
+        if Self::certainly_inside(from, to, |q| P::strictly_inside(hull, q)) {
+            self.between.insert(robot, (from, timing));
+        } else {
             self.outside.insert(robot, (from, timing));
         }
     }
@@ -78,6 +88,7 @@ impl<P: IndexPoint> KeptShape<P> {
     /// Robot `robot` ended its move at `at`, and is at rest there.
     pub fn arrive(&mut self, robot: u32, at: P) {
         self.outside.remove(robot);
+        self.between.remove(robot);
         self.rest.insert(robot, at);
     }
 
@@ -103,14 +114,22 @@ impl<P: IndexPoint> KeptShape<P> {
                     .map(|(robot, from, _)| (robot, from))
             })
             .to_vec();
-        if self.rest.generation() != self.seen {
+        if self.rest.generation() != self.seen.0 {
             // A new core: the movers are sorted against it.
-            self.seen = self.rest.generation();
             self.outside.clear();
+            self.between.clear();
             for (robot, from, timing) in robots().filter(|(_, _, timing)| moving(timing)) {
                 self.track(robot, from, timing);
             }
+        } else if self.rest.shrinks() != self.seen.1 {
+            // A smaller hull: the movers that were inside it are looked at again.
+            let between: Vec<_> = self.between.iter().copied().collect();
+            self.between.clear();
+            for (robot, (from, timing)) in between {
+                self.track(robot, from, timing);
+            }
         }
+        self.seen = (self.rest.generation(), self.rest.shrinks());
         points.extend(
             self.outside
                 .iter()

@@ -70,6 +70,54 @@ fn blockers_at_the_cone_edge_next_to_cell_corners() {
         "only {blocked} of {checked} placements block"
     );
 }
+/// A moving grid: a blocker on the line of sight whose point in the grid lies almost
+/// the drift away from it, on either side, next to a band's and a cell's corner, on
+/// lines of every slope: the walk, given that drift, visits its cell and finds it.
+#[test]
+fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
+    let v = VisionParams::default();
+    let mut rng = Stream::new(9, 0, 0, 0);
+    let mut pts = vec![
+        DVec2::new(0.0, 0.0),
+        DVec2::new(20.0, 0.0),
+        DVec2::new(0.0, 20.0),
+        DVec2::new(20.0, 20.0),
+    ];
+    pts.extend((0..400).map(|_| DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0)));
+    let (i, j, k) = (4, 5, 6);
+    let mut checked = 0;
+    while checked < 2000 {
+        let cell = SegmentGrid::new(&pts).cell_size();
+        let drift = cell * [0.3, 1.0, 2.0][checked % 3];
+        let p = DVec2::new(rng.uniform_in(2.0, 18.0), rng.uniform_in(2.0, 18.0));
+        let angle = rng.uniform() * std::f64::consts::TAU;
+        let q = p + DVec2::new(angle.cos(), angle.sin()) * rng.uniform_in(3.0, 8.0);
+        if !(0..2).all(|x| (0.5..19.5).contains(&q[x])) {
+            continue;
+        }
+        let on_line = p + (q - p) * rng.uniform_in(0.2, 0.8);
+        let normal = DVec2::new(p.y - q.y, q.x - p.x).normalize();
+        let side = if rng.coin() { 1.0 } else { -1.0 };
+        // Where the grid holds it: off the line by almost the drift, across an edge.
+        pts[i] = p;
+        pts[j] = q;
+        pts[k] = on_line + normal * (side * 0.999 * drift);
+        let mut grid = SegmentGrid::moving(&pts);
+        // It is now on the line, a point again.
+        grid.set_disc(k, [on_line.x, on_line.y], 0.0);
+        let mut now = pts.clone();
+        now[k] = on_line;
+        let expect = (0..now.len()).any(|r| r != i && r != j && blocks(p, now[r], q, &v));
+        assert!(expect, "a robot on the line blocks");
+        assert!(
+            grid.blocked(&now, i, j, &v, drift),
+            "{p} -> {q}: blocker held {} away",
+            0.999 * drift
+        );
+        checked += 1;
+    }
+}
+
 /// Robots with company within the radius (pairs at and around the radius, some
 /// across cell edges and corners, far from the origin) are never marked isolated;
 /// lone robots are.

@@ -103,11 +103,14 @@ impl SegmentGrid {
         prefetch(&g.place[j]);
         let (a, b) = (g.run, 1 - g.run);
         let (pa, pb, da, db) = (p.axis(a), p.axis(b), d.axis(a), d.axis(b));
-        // A blocker lies within `tol` of the segment, so within `tol` of its extent on
-        // either axis. Where the line crosses a band edge, a blocker just across the
-        // edge lies within `tol_b * cos / sin` of the crossing along the major axis
-        // (tested); `tol_b = tol` would do, twice that leaves room.
-        let tol_b = 2.0 * tol_cells;
+        // The grid's point for a blocker lies within `tol_cells` of the segment, so
+        // within `tol_cells` of its extent on either axis. Band by band: a point at
+        // distance t from the line, at angle phi to the major axis, lies along that
+        // axis within t / |sin phi| of where the line is at the band's edges widened by
+        // `tol_b` across it, for `tol_b = t / |cos phi|` (at most sqrt 2 t): twice the
+        // tube's tolerance (room for rounding), and the drift with that factor.
+        let secant = len / da.abs();
+        let tol_b = 2.0 * (tol_cells - drift) + drift * secant * (1.0 + 1e-9);
         let (a_lo, a_hi) = (pa.min(pa + da) - tol_cells, pa.max(pa + da) + tol_cells);
         let (b_lo, b_hi) = (pb.min(pb + db) - tol_b, pb.max(pb + db) + tol_b);
         let (r0, r1) = (g.band(b_lo), g.band(b_hi));
