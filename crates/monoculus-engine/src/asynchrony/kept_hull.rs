@@ -95,9 +95,10 @@ impl<P: IndexPoint> KeptHull<P> {
         self.shrinks
     }
 
-    /// The hull as last taken (it only grew since, unless a point left since).
-    pub(crate) fn hull(&self) -> &[P] {
-        &self.hull
+    /// Whether `p` is certainly strictly inside the hull as last taken (it only grew
+    /// since, unless a point left since).
+    pub(crate) fn in_hull(&self, p: P) -> bool {
+        in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p)
     }
 
     /// The set gains point `p`, by `id` (not in the set).

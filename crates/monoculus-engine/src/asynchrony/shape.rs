@@ -71,8 +71,7 @@ impl<P: IndexPoint> KeptShape<P> {
         {
             return;
         }
-        let hull = self.rest.hull();
-        if Self::certainly_inside(from, to, |q| P::strictly_inside(hull, q)) {
+        if Self::certainly_inside(from, to, |q| self.rest.in_hull(q)) {
             self.between.insert(robot, (from, timing));
         } else {
             self.outside.insert(robot, (from, timing));

@@ -239,9 +239,12 @@ impl<P: IndexPoint> LookSight<P> {
                 *passing.select_nth_unstable(allowed).1
             }
         };
-        for &(k, m) in self.movers.iter() {
-            let (centre, reach) = m.disc(settled[k as usize], tick, last);
-            index.follow(k as usize, centre, reach);
+        // An index for this tick only holds every robot at its point.
+        if last > tick {
+            for &(k, m) in self.movers.iter() {
+                let (centre, reach) = m.disc(settled[k as usize], tick, last);
+                index.follow(k as usize, centre, reach);
+            }
         }
         Some(Moving {
             index,

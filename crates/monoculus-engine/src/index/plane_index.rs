@@ -34,11 +34,22 @@ pub struct PlaneIndex {
 /// cells it takes (the walk's bands and cells, a radius, the reach of the rings of
 /// cells) and ends in the same exact test on the current positions, so its answer is
 /// that of a grid built afresh (tested with robots in mid-move).
+///
+/// A stale robot too stays within a disc (beyond the limit), kept in `discs` in the
+/// order of the stale list: queries test it there before placing the robot.
 #[derive(Debug)]
 struct Moving {
     base: Vec<DVec2>,
     limit: f64,
     drift: f64,
+    discs: Vec<(DVec2, f64)>,
+}
+
+/// Whether a robot within `reach` of `centre` may be within `radius` of `p` (with room
+/// for rounding).
+fn disc_may_reach(centre: DVec2, reach: f64, p: DVec2, radius: f64) -> bool {
+    let d = (centre - p).length();
+    d <= radius + reach * (1.0 + 1e-9) + 1e-12 * d
 }
 
 impl PlaneIndex {
@@ -51,6 +62,15 @@ impl PlaneIndex {
                     .expect("a grid is built over a snapshot's positions"),
             ))
         })
+    }
+
+    /// The stale robots, each with the disc it stays in (of a moving index).
+    fn stale_robots_and_discs(&self) -> impl Iterator<Item = (usize, Option<(DVec2, f64)>)> + '_ {
+        let discs = self.moving.as_ref().map(|m| m.discs.as_slice());
+        self.stale
+            .iter()
+            .enumerate()
+            .map(move |(x, k)| (k, discs.map(|d| d[x])))
     }
 
     /// How far a robot not stale may be from its grid point.
@@ -148,6 +168,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
                 base: positions,
                 limit: 0.0,
                 drift: 0.0,
+                discs: Vec::new(),
             }),
         })
     }
@@ -170,6 +191,8 @@ impl SpatialIndex<DVec2> for PlaneIndex {
     fn follow(&mut self, k: usize, centre: DVec2, reach: f64) {
         let m = self.moving.as_mut().expect("a moving index");
         if self.stale.contains(k) {
+            let x = self.stale.iter().position(|s| s == k).expect("listed");
+            m.discs[x] = (centre, reach);
             return;
         }
         // How far from its point the disc reaches, rounded up; a NaN makes the robot
@@ -181,6 +204,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         );
         if !within {
             self.stale.insert(k);
+            m.discs.push((centre, reach));
             return;
         }
         m.drift = m.drift.max(excursion);
@@ -227,8 +251,15 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         // A blocker lies within the tube's tolerance of the segment: a stale robot
         // farther from its line (with twice the room, for rounding) is not asked.
         let (d, tol) = (q - p, Tube::new(p, q, v.eps_ang, 0.0).tolerance());
-        let reach = 2.0 * tol * d.length();
-        !self.stale.iter().any(|k| {
+        let len = d.length();
+        let reach = 2.0 * tol * len;
+        !self.stale_robots_and_discs().any(|(k, disc)| {
+            if let Some((c, r)) = disc {
+                let off = (c - p).perp_dot(d).abs();
+                if off > reach + (r * (1.0 + 1e-9) + 1e-12 * (c - p).length()) * len {
+                    return false;
+                }
+            }
             let r = pos.at(k);
             (r - p).perp_dot(d).abs() <= reach && k != i && k != j && blocks(p, r, q, v)
         })
@@ -259,7 +290,11 @@ impl SpatialIndex<DVec2> for PlaneIndex {
                         test(k)
                     }
                 });
-            self.stale.iter().for_each(test);
+            for (k, disc) in self.stale_robots_and_discs() {
+                if disc.is_none_or(|(c, r)| disc_may_reach(c, r, p, radius)) {
+                    test(k);
+                }
+            }
         }
     }
 
@@ -305,9 +340,11 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         }
         // Robots that did not move are where they were; the others are tested here.
         let p = pos.at(j);
-        self.stale
-            .iter()
-            .all(|k| k == j || (pos.at(k) - p).length() > v.eps_pos)
+        self.stale_robots_and_discs().all(|(k, disc)| {
+            k == j
+                || disc.is_some_and(|(c, r)| !disc_may_reach(c, r, p, v.eps_pos))
+                || (pos.at(k) - p).length() > v.eps_pos
+        })
     }
 
     fn neighbours<L: Locate<DVec2> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize> {

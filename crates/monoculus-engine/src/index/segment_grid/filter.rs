@@ -23,7 +23,15 @@ pub(super) struct Filter {
 impl Filter {
     #[inline(always)]
     pub(super) fn near(&self, &[x, y]: &[f32; 2]) -> bool {
-        let (rx, ry) = (f64::from(x) - self.origin[0], f64::from(y) - self.origin[1]);
+        self.near_at(f64::from(x), f64::from(y))
+    }
+
+    /// [`Filter::near`] for a point given relative to the swarm's corner in double
+    /// precision (a robot's position rather than its stored point: the same test, with
+    /// no rounding of its own to allow for).
+    #[inline(always)]
+    pub(super) fn near_at(&self, x: f64, y: f64) -> bool {
+        let (rx, ry) = (x - self.origin[0], y - self.origin[1]);
         let [dx, dy] = self.d;
         let along = rx * dx + ry * dy;
         !self.single
@@ -115,9 +123,12 @@ impl Line {
         false
     }
 
-    /// [`Line::any`] for robots that may each be up to their `reach` (same places as
-    /// `coords`) from their stored points. A reach is stored rounded up with room for
-    /// the rounding of the single-precision sum `w + reach`, which `w` also leaves.
+    /// For robots that may each be up to their `reach` (same places as `coords`) from
+    /// their stored points: calls `test` with every place of `s0..s1` (but the two
+    /// `ends`) whose disc may come within `w` of the line, until it returns `true`;
+    /// whether it did. A reach is stored rounded up with room for the rounding of the
+    /// single-precision sum `w + reach`, which `w` also leaves. Chunks of [`LANES`] are
+    /// tested at once, and only the places that pass are handed on.
     #[inline(always)]
     pub(super) fn any_within(
         &self,
@@ -126,9 +137,10 @@ impl Line {
         s0: usize,
         s1: usize,
         ends: [u32; 2],
+        mut test: impl FnMut(usize) -> bool,
     ) -> bool {
         if !self.sound {
-            return s0 < s1;
+            return (s0..s1).any(test);
         }
         let ([nx, ny], c, w) = (self.n, self.c, self.w);
         let mut s = s0;
@@ -141,18 +153,24 @@ impl Line {
                     .get(s..s + LANES)
                     .and_then(|r| <&[f32; LANES]>::try_from(r).ok()),
             ) else {
-                return true;
+                return (s..s1).any(test);
             };
-            let mut hit = false;
-            for lane in 0..LANES {
+            let near = |lane: usize| {
                 let [x, y] = chunk[lane];
                 let at = (s + lane) as u32;
-                hit |= ((nx * x + ny * y - c).abs() <= w + room[lane])
-                    & (at != ends[0])
-                    & (at != ends[1]);
+                ((nx * x + ny * y - c).abs() <= w + room[lane]) & (at != ends[0]) & (at != ends[1])
+            };
+            // Hits are rare: one branch-free pass first, then the lanes one by one.
+            let mut hit = false;
+            for lane in 0..LANES {
+                hit |= near(lane);
             }
             if hit {
-                return true;
+                for lane in 0..LANES.min(s1 - s) {
+                    if near(lane) && test(s + lane) {
+                        return true;
+                    }
+                }
             }
             s += LANES;
         }

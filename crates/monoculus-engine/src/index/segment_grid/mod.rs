@@ -100,11 +100,7 @@ impl SegmentGrid {
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
     /// given a disc it stays in ([`SegmentGrid::set_disc`]); until then its point.
     pub fn moving<P: Point + Sync>(points: &[P]) -> Self {
-        let mut grid = Self::build(points, true);
-        for g in [&mut grid.rows, &mut grid.columns] {
-            g.reach = vec![0.0; g.coords.len()];
-        }
-        grid
+        Self::build(points, true)
     }
 
     /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of
@@ -123,7 +119,10 @@ impl SegmentGrid {
             (centre[1] - self.lo[1]) as f32,
         ];
         for g in [&mut self.rows, &mut self.columns] {
-            debug_assert!(!g.reach.is_empty(), "a grid for moving robots");
+            // Made when first needed: until then every robot is at its point.
+            if g.reach.is_empty() {
+                g.reach = vec![0.0; g.coords.len()];
+            }
             let s = g.place[k] as usize;
             g.coords[s] = stored;
             g.reach[s] = r;

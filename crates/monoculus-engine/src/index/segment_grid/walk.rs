@@ -184,18 +184,21 @@ impl SegmentGrid {
                 // Candidates are rare: one branch-free pass over the slice first.
                 let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
                 if reaching {
-                    if !filter.line.any_within(&g.coords, &g.reach, s0, s1, ends) {
-                        continue;
-                    }
-                    for s in s0..s1 {
+                    // A candidate's disc came near the line: where it is now, first by the
+                    // cheap test, then the exact one.
+                    let blocker = |s: usize| {
                         let k = g.items[s] as usize;
-                        if filter.near_within(&g.coords[s], g.reach[s])
-                            && k != i
-                            && k != j
-                            && blocks(p, positions.at(k), q, v)
-                        {
-                            return true;
+                        filter.near_within(&g.coords[s], g.reach[s]) && k != i && k != j && {
+                            let r = positions.at(k);
+                            let (x, y) = (r.axis(0) - self.lo[0], r.axis(1) - self.lo[1]);
+                            filter.near_at(x, y) && blocks(p, r, q, v)
                         }
+                    };
+                    if filter
+                        .line
+                        .any_within(&g.coords, &g.reach, s0, s1, ends, blocker)
+                    {
+                        return true;
                     }
                     continue;
                 }
