@@ -26,8 +26,9 @@ use crate::IndexPoint;
 pub(crate) struct KeptHull<P> {
     /// The core, counter-clockwise; empty where nothing is left out.
     core: Vec<P>,
-    /// A disc inside the core: the cheap first test.
+    /// A disc and a box inside the core: the cheap first tests.
     core_disc: (P, f64),
+    core_box: Option<(P, P)>,
     /// Counts the cores chosen (what was classified against the core must be again when
     /// it changes).
     generation: u64,
@@ -38,19 +39,72 @@ pub(crate) struct KeptHull<P> {
     kept: Roster<P>,
     /// The hull of the kept points (once `ready`, unless `shrunk`).
     hull: Vec<P>,
-    /// A disc inside `hull`.
+    /// A disc and a box inside `hull`.
     hull_disc: (P, f64),
+    hull_box: Option<(P, P)>,
     /// Points kept outside `hull` since it was taken.
     grown: Vec<P>,
     /// Whether a point that may be a vertex of `hull` was removed.
     shrunk: bool,
     /// Whether the core and the kept points are set up.
     ready: bool,
+    /// How many times the fraction of the points left outside the core is doubled: a
+    /// core that the hull soon leaves (a swarm shrinking fast) makes the next one
+    /// deeper, one that lasts makes it shallower again.
+    depth: u32,
+    /// Times the hull changed since the core was chosen.
+    asked: u32,
 }
 
-/// The fraction of the points left outside the core: 1/32, but at least 256 of them.
-fn outside_fraction(n: usize) -> f64 {
-    (256.0 / n.max(1) as f64).max(1.0 / 32.0)
+/// A core that lasts fewer changes of the hull than this makes the next one deeper...
+const SHORT_LIVED: u32 = 16;
+/// ...one that lasts more than this, shallower.
+const LONG_LIVED: u32 = 256;
+/// The deepest a core is made: the fraction left outside doubled this many times.
+const DEEPEST: u32 = 3;
+
+/// The fraction of the points left outside the core: 1/32, but at least 256 of them,
+/// doubled `depth` times.
+fn outside_fraction(n: usize, depth: u32) -> f64 {
+    ((256.0 / n.max(1) as f64).max(1.0 / 32.0) * f64::from(1u32 << depth)).min(1.0)
+}
+
+/// A box strictly inside the convex polygon `poly` (counter-clockwise, in the plane):
+/// its bounding box shrunk about the mean of its vertices until the four corners are
+/// strictly inside (then so is the whole box); `None` if that fails or in space.
+fn inner_box<P: IndexPoint>(poly: &[P]) -> Option<(P, P)> {
+    if P::DIM != 2 || poly.len() < 3 {
+        return None;
+    }
+    let (lo, hi) = monoculus_core::metrics::bounds(poly);
+    let centre = poly.iter().fold(P::zero(), |c, &v| c + v) * (1.0 / poly.len() as f64);
+    let at = |x: f64, y: f64| P::unit_axis(0) * x + P::unit_axis(1) * y;
+    [0.95, 0.9, 0.8, 0.7, 0.6, 0.5, 0.35]
+        .into_iter()
+        .find_map(|s| {
+            let (a, b) = (centre + (lo - centre) * s, centre + (hi - centre) * s);
+            let corners = [
+                at(a.axis(0), a.axis(1)),
+                at(b.axis(0), a.axis(1)),
+                at(b.axis(0), b.axis(1)),
+                at(a.axis(0), b.axis(1)),
+            ];
+            corners
+                .iter()
+                .all(|&c| P::strictly_inside(poly, c))
+                .then_some((a, b))
+        })
+}
+
+/// Whether `p` lies in the closed box (if any).
+#[inline]
+fn in_box<P: IndexPoint>(boxed: Option<(P, P)>, p: P) -> bool {
+    boxed.is_some_and(|(a, b)| {
+        (p.axis(0) >= a.axis(0))
+            & (p.axis(0) <= b.axis(0))
+            & (p.axis(1) >= a.axis(1))
+            & (p.axis(1) <= b.axis(1))
+    })
 }
 
 /// Points sampled to choose the core.
@@ -63,20 +117,24 @@ impl<P: IndexPoint> KeptHull<P> {
         KeptHull {
             core: Vec::new(),
             core_disc: inner_disc(&[]),
+            core_box: None,
             generation: 0,
             shrinks: 0,
             kept: Roster::new(ids),
             hull: Vec::new(),
             hull_disc: inner_disc(&[]),
+            hull_box: None,
             grown: Vec::new(),
             shrunk: false,
             ready: false,
+            depth: 0,
+            asked: 0,
         }
     }
 
     /// Whether `p` is certainly strictly inside the core (exact orientations).
     pub(crate) fn in_core(&self, p: P) -> bool {
-        in_disc(self.core_disc, p) || P::strictly_inside(&self.core, p)
+        in_box(self.core_box, p) || in_disc(self.core_disc, p) || P::strictly_inside(&self.core, p)
     }
 
     /// The core (empty where there is none).
@@ -95,10 +153,15 @@ impl<P: IndexPoint> KeptHull<P> {
         self.shrinks
     }
 
+    /// The hull as last taken (the set's, after [`KeptHull::vertices`]).
+    pub(crate) fn hull(&self) -> &[P] {
+        &self.hull
+    }
+
     /// Whether `p` is certainly strictly inside the hull as last taken (it only grew
     /// since, unless a point left since).
     pub(crate) fn in_hull(&self, p: P) -> bool {
-        in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p)
+        in_box(self.hull_box, p) || in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p)
     }
 
     /// The set gains point `p`, by `id` (not in the set).
@@ -107,8 +170,7 @@ impl<P: IndexPoint> KeptHull<P> {
             return;
         }
         self.kept.insert(id, p);
-        let inside = in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p);
-        if !(self.shrunk || inside) {
+        if !(self.shrunk || self.in_hull(p)) {
             self.grown.push(p);
         }
     }
@@ -120,7 +182,7 @@ impl<P: IndexPoint> KeptHull<P> {
         }
         if let Some(p) = self.kept.take(id)
             && !self.shrunk
-            && !(in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p))
+            && !self.in_hull(p)
         {
             self.shrunk = true;
         }
@@ -139,6 +201,10 @@ impl<P: IndexPoint> KeptHull<P> {
     ///
     /// [`HullGeometry::hull_vertices`]: monoculus_core::geometry::HullGeometry::hull_vertices
     pub(crate) fn vertices<I: Iterator<Item = (u32, P)>>(&mut self, all: impl Fn() -> I) -> &[P] {
+        let changed = !self.ready || self.shrunk || !self.grown.is_empty();
+        if !changed {
+            return &self.hull;
+        }
         if self.ready && self.shrunk {
             self.shrinks += 1;
             let kept = &self.kept;
@@ -151,11 +217,21 @@ impl<P: IndexPoint> KeptHull<P> {
             self.hull = P::hull_vertices(&self.grown);
         }
         if !self.ready {
+            if self.generation > 0 {
+                if self.asked < SHORT_LIVED {
+                    self.depth = (self.depth + 1).min(DEEPEST);
+                } else if self.asked > LONG_LIVED {
+                    self.depth = self.depth.saturating_sub(1);
+                }
+            }
+            self.asked = 0;
             self.rebuild(&all);
         }
+        self.asked = self.asked.saturating_add(1);
         self.shrunk = false;
         self.grown.clear();
         self.hull_disc = inner_disc(&self.hull);
+        self.hull_box = inner_box(&self.hull);
         &self.hull
     }
 
@@ -168,6 +244,7 @@ impl<P: IndexPoint> KeptHull<P> {
             Vec::new()
         };
         self.core_disc = inner_disc(&self.core);
+        self.core_box = inner_box(&self.core);
         self.generation += 1;
         self.kept.clear();
         for (id, p) in all() {
@@ -204,8 +281,8 @@ impl<P: IndexPoint> KeptHull<P> {
         let n = all().count();
         let stride = n.div_ceil(SAMPLE).max(1);
         let mut sample: Vec<(f64, P)> = all().step_by(stride).map(|(_, p)| (gauge(p), p)).collect();
-        let outside =
-            ((sample.len() as f64 * outside_fraction(n)).ceil() as usize).min(sample.len());
+        let outside = ((sample.len() as f64 * outside_fraction(n, self.depth)).ceil() as usize)
+            .min(sample.len());
         let inside = sample.len() - outside;
         if inside < 3 {
             return Vec::new();

@@ -91,28 +91,20 @@ impl<P: IndexPoint> KeptShape<P> {
         self.rest.insert(robot, at);
     }
 
-    /// The shape at `tick`. `robots` lists every robot's start point and clock (a pass
-    /// made as often as needed): it is read only when the hull at rest must be taken
-    /// again over all robots, or in space.
-    pub fn shape<I: Iterator<Item = (u32, P, Timing<P>)>>(
-        &mut self,
-        tick: u64,
-        robots: impl Fn() -> I,
-    ) -> Shape {
+    /// Brings what is kept up to date with the tick's events (in the plane). `robots`
+    /// lists every robot's start point and clock (a pass made as often as needed): it
+    /// is read only when the hull at rest must be taken again over all robots, or the
+    /// movers sorted again against a new core.
+    pub fn refresh<I: Iterator<Item = (u32, P, Timing<P>)>>(&mut self, robots: impl Fn() -> I) {
         if P::DIM != 2 {
-            return Shape::of(&P::hull_candidates_of(|| {
-                robots().map(|(_, from, timing)| timing.position_at(from, tick))
-            }));
+            return;
         }
         let moving = |t: &Timing<P>| t.phase == super::Phase::Move && t.pending.is_some();
-        let mut points = self
-            .rest
-            .vertices(|| {
-                robots()
-                    .filter(|(_, _, timing)| !moving(timing))
-                    .map(|(robot, from, _)| (robot, from))
-            })
-            .to_vec();
+        self.rest.vertices(|| {
+            robots()
+                .filter(|(_, _, timing)| !moving(timing))
+                .map(|(robot, from, _)| (robot, from))
+        });
         if self.rest.generation() != self.seen.0 {
             // A new core: the movers are sorted against it.
             self.outside.clear();
@@ -129,12 +121,37 @@ impl<P: IndexPoint> KeptShape<P> {
             }
         }
         self.seen = (self.rest.generation(), self.rest.shrinks());
+    }
+
+    /// Of a [refreshed](KeptShape::refresh) shape in the plane: points at `tick` whose
+    /// hull is the swarm's (every vertex of the swarm's hull is among them, and every
+    /// other point is one of the swarm's): the vertices at rest and the movers that may
+    /// be outside them.
+    pub fn points(&self, tick: u64) -> Vec<P> {
+        let mut points = self.rest.hull().to_vec();
         points.extend(
             self.outside
                 .iter()
                 .map(|&(_, (from, timing))| timing.position_at(from, tick)),
         );
-        Shape::of(&points)
+        points
+    }
+
+    /// The shape at `tick`. `robots` lists every robot's start point and clock (a pass
+    /// made as often as needed): it is read only when the hull at rest must be taken
+    /// again over all robots, or in space.
+    pub fn shape<I: Iterator<Item = (u32, P, Timing<P>)>>(
+        &mut self,
+        tick: u64,
+        robots: impl Fn() -> I,
+    ) -> Shape {
+        if P::DIM != 2 {
+            return Shape::of(&P::hull_candidates_of(|| {
+                robots().map(|(_, from, timing)| timing.position_at(from, tick))
+            }));
+        }
+        self.refresh(robots);
+        Shape::of(&self.points(tick))
     }
 }
 

@@ -7,9 +7,9 @@ use bevy_ecs::prelude::*;
 use monoculus_core::metrics::bounds;
 use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
 
-use super::Timing;
 use super::components::interpolate;
 use super::roster::Roster;
+use super::{KeptShape, Timing};
 use crate::IndexPoint;
 use crate::index::{Locate, SpatialIndex, prefetch};
 use crate::resources::{Params, SightBackend, SnapshotSight};
@@ -144,13 +144,15 @@ impl<P: IndexPoint> LookSight<P> {
     }
 
     /// The sight at `tick` for `looks` Looks: robots at rest at their points in
-    /// `settled`, movers on their segments.
+    /// `settled`, movers on their segments. `shape`, [refreshed](KeptShape::refresh)
+    /// at this tick, gives the points the swarm's hull and box are taken from.
     pub fn at<'a>(
         &'a mut self,
         params: &Params,
         tick: u64,
         settled: &'a [P],
         looks: usize,
+        shape: &'a KeptShape<P>,
     ) -> Looking<'a, P> {
         let moving = P::Index::can_move()
             && matches!(params.backend, SightBackend::Index)
@@ -176,9 +178,11 @@ impl<P: IndexPoint> LookSight<P> {
             // At the tick it was made, every robot is at the point the index holds.
             if m.made == tick {
                 let base = m.index.points();
-                return Looking::Made(TickSight::new(base, base.len(), &m.index, params.vision));
+                let sight = TickSight::new(base, base.len(), &m.index, params.vision);
+                return Looking::Made(sight.with_shape(shape, tick));
             }
-            return Looking::Moving(TickSight::new(at, settled.len(), &m.index, params.vision));
+            let sight = TickSight::new(at, settled.len(), &m.index, params.vision);
+            return Looking::Moving(sight.with_shape(shape, tick));
         }
         let mut now = match self.snapshot.take() {
             Some(SnapshotSight::Index(s)) => s.into_positions(),
@@ -300,6 +304,9 @@ pub struct TickSight<'a, P: IndexPoint, L> {
     len: usize,
     index: &'a P::Index,
     vision: VisionParams,
+    /// Where the points the swarm's hull and box are taken from come from, if not from
+    /// every position.
+    shape: Option<(&'a KeptShape<P>, u64)>,
     all: OnceLock<Vec<P>>,
     hull: OnceLock<Vec<P>>,
     bounds: OnceLock<(P, P)>,
@@ -312,9 +319,29 @@ impl<'a, P: IndexPoint, L: Locate<P>> TickSight<'a, P, L> {
             len,
             index,
             vision,
+            shape: None,
             all: OnceLock::new(),
             hull: OnceLock::new(),
             bounds: OnceLock::new(),
+        }
+    }
+}
+
+impl<'a, P: IndexPoint, L: Locate<P>> TickSight<'a, P, L> {
+    /// The same sight, taking the swarm's hull and box from `shape`'s points at `tick`
+    /// (in the plane) rather than from every position.
+    fn with_shape(mut self, shape: &'a KeptShape<P>, tick: u64) -> Self {
+        if P::DIM == 2 {
+            self.shape = Some((shape, tick));
+        }
+        self
+    }
+
+    /// Points whose hull and box are the swarm's.
+    fn outline(&self) -> std::borrow::Cow<'_, [P]> {
+        match self.shape {
+            Some((shape, tick)) => std::borrow::Cow::Owned(shape.points(tick)),
+            None => std::borrow::Cow::Borrowed(self.positions()),
         }
     }
 }
@@ -351,7 +378,7 @@ impl<P: IndexPoint, L: Locate<P>> Sight<P> for TickSight<'_, P, L> {
     }
 
     fn bounds(&self) -> (P, P) {
-        *self.bounds.get_or_init(|| bounds(self.positions()))
+        *self.bounds.get_or_init(|| bounds(&self.outline()))
     }
 
     fn sees(&self, i: usize, j: usize) -> bool {
@@ -373,13 +400,16 @@ impl<P: IndexPoint, L: Locate<P>> Sight<P> for TickSight<'_, P, L> {
     /// The farthest robot is a hull vertex.
     fn farthest(&self, i: usize) -> f64 {
         let p = self.at.at(i);
-        let hull = self.hull.get_or_init(|| P::hull_vertices(self.positions()));
-        let set: &[P] = if hull.is_empty() {
-            self.positions()
-        } else {
-            hull
-        };
-        set.iter().map(|&q| (q - p).length()).fold(0.0, f64::max)
+        let hull = self.hull.get_or_init(|| {
+            let points = self.outline();
+            let hull = P::hull_vertices(&points);
+            if hull.is_empty() {
+                points.into_owned()
+            } else {
+                hull
+            }
+        });
+        hull.iter().map(|&q| (q - p).length()).fold(0.0, f64::max)
     }
 
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {

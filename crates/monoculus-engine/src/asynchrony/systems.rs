@@ -200,6 +200,14 @@ type LookerData<P> = (
     Option<&'static mut Memory>,
 );
 
+/// What the Look system keeps across ticks: the committed hull (destinations), the
+/// sight, and the kept shape (the swarm's hull and box for the Looks).
+type LookState<'w, P> = (
+    ResMut<'w, CommittedHull<P>>,
+    ResMut<'w, LookSight<P>>,
+    ResMut<'w, KeptShape<P>>,
+);
+
 /// Look (and the decision, which the Compute phase then delays).
 pub fn look<P: IndexPoint>(
     params: Res<Params>,
@@ -207,7 +215,7 @@ pub fn look<P: IndexPoint>(
     entities: Res<RobotEntities>,
     positions: Res<Positions<P>>,
     mut tally: ResMut<Tally>,
-    (mut committed, mut sight): (ResMut<CommittedHull<P>>, ResMut<LookSight<P>>),
+    (mut committed, mut sight, mut kept_shape): LookState<P>,
     mut robots: Query<LookerData<P>>,
 ) {
     let t = clock.tick;
@@ -230,7 +238,15 @@ pub fn look<P: IndexPoint>(
             (r, timing.cycle, memory.map(|m| m.0))
         })
         .collect();
-    let outputs = match sight.at(&params, t, &positions.points, lookers.len()) {
+    // The hull and box the Looks may ask for come from the kept shape (its work done
+    // here rather than in Account, at the same tick).
+    let pos = &positions.points;
+    kept_shape.refresh(|| {
+        robots
+            .iter()
+            .map(|(r, timing, _)| (r.index, pos[r.index as usize], *timing))
+    });
+    let outputs = match sight.at(&params, t, pos, lookers.len(), &kept_shape) {
         Looking::Made(s) => decide_all(&params, &s, clock.epochs, &inputs),
         Looking::Moving(s) => decide_all(&params, &s, clock.epochs, &inputs),
         Looking::Snapshot(SnapshotSight::Index(s)) => {
