@@ -25,10 +25,10 @@ pub struct CommittedHull<P: IndexPoint> {
 }
 
 impl<P: IndexPoint> CommittedHull<P> {
-    /// For `n` robots, no move decided yet, whose hull's measure is `measure`.
-    pub fn new(n: usize, measure: f64) -> Self {
+    /// No move decided yet, the hull's measure `measure`.
+    pub fn new(measure: f64) -> Self {
         CommittedHull {
-            kept: KeptHull::new(2 * n),
+            kept: KeptHull::new(),
             measure,
         }
     }

@@ -111,16 +111,16 @@ fn in_box<P: IndexPoint>(boxed: Option<(P, P)>, p: P) -> bool {
 const SAMPLE: usize = 4096;
 
 impl<P: IndexPoint> KeptHull<P> {
-    /// For points with ids below `ids`; nothing is set up until the first
+    /// For points known by ids; nothing is set up until the first
     /// [`KeptHull::vertices`].
-    pub(crate) fn new(ids: usize) -> Self {
+    pub(crate) fn new() -> Self {
         KeptHull {
             core: Vec::new(),
             core_disc: inner_disc(&[]),
             core_box: None,
             generation: 0,
             shrinks: 0,
-            kept: Roster::new(ids),
+            kept: Roster::sparse(),
             hull: Vec::new(),
             hull_disc: inner_disc(&[]),
             hull_box: None,
@@ -333,7 +333,7 @@ mod tests {
             ),
         ];
         for (name, mut points) in sets {
-            let mut kept = KeptHull::new(n);
+            let mut kept = KeptHull::new();
             let mut present = vec![true; n];
             let mut rebuilds = 0;
             for round in 0..120 {

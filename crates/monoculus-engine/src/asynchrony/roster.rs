@@ -1,14 +1,72 @@
 //! [`Roster`]: a set of robots with an item each, listed densely.
 
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
 const ABSENT: u32 = u32::MAX;
 
 /// Robots with an item each (the robots in mid-move, say): insertion, removal by robot
-/// and iteration, each O(1) per robot, over one dense list.
+/// and iteration, each O(1) per robot, over one dense list. Where each robot is in the
+/// list is kept in an array over the swarm ([`Roster::new`]: the fastest to look up,
+/// 4 bytes a robot), or, for rosters that stay small, in a map ([`Roster::sparse`]).
 #[derive(Clone, Debug)]
 pub(crate) struct Roster<T> {
     items: Vec<(u32, T)>,
-    /// Where each robot is in `items` (`ABSENT`: not there).
-    slot: Vec<u32>,
+    slot: Slots,
+}
+
+/// Where each robot is in a roster's list.
+#[derive(Clone, Debug)]
+enum Slots {
+    /// By robot (`ABSENT`: not there).
+    Dense(Vec<u32>),
+    /// The robots there.
+    Sparse(HashMap<u32, u32, BuildHasherDefault<IdHasher>>),
+}
+
+/// A hasher for robot ids: a multiplicative hash (ids are small integers, spread over
+/// the table by the high bits of the product).
+#[derive(Default)]
+struct IdHasher(u64);
+
+impl Hasher for IdHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+    }
+
+    fn write_u32(&mut self, i: u32) {
+        self.0 = u64::from(i).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+}
+
+impl Slots {
+    #[inline]
+    fn get(&self, robot: u32) -> u32 {
+        match self {
+            Slots::Dense(v) => v[robot as usize],
+            Slots::Sparse(m) => m.get(&robot).copied().unwrap_or(ABSENT),
+        }
+    }
+
+    #[inline]
+    fn set(&mut self, robot: u32, at: u32) {
+        match self {
+            Slots::Dense(v) => v[robot as usize] = at,
+            Slots::Sparse(m) => {
+                if at == ABSENT {
+                    m.remove(&robot);
+                } else {
+                    m.insert(robot, at);
+                }
+            }
+        }
+    }
 }
 
 impl<T> Roster<T> {
@@ -16,14 +74,23 @@ impl<T> Roster<T> {
     pub(crate) fn new(n: usize) -> Self {
         Roster {
             items: Vec::new(),
-            slot: vec![ABSENT; n],
+            slot: Slots::Dense(vec![ABSENT; n]),
+        }
+    }
+
+    /// No robot; the robots there are kept in a map, for a roster that holds few of
+    /// the swarm's robots at a time.
+    pub(crate) fn sparse() -> Self {
+        Roster {
+            items: Vec::new(),
+            slot: Slots::Sparse(HashMap::default()),
         }
     }
 
     /// Adds `robot` (not there yet) with its item.
     pub(crate) fn insert(&mut self, robot: u32, item: T) {
-        debug_assert_eq!(self.slot[robot as usize], ABSENT);
-        self.slot[robot as usize] = self.items.len() as u32;
+        debug_assert_eq!(self.slot.get(robot), ABSENT);
+        self.slot.set(robot, self.items.len() as u32);
         self.items.push((robot, item));
     }
 
@@ -34,13 +101,14 @@ impl<T> Roster<T> {
 
     /// Removes `robot`, giving back its item if it was there.
     pub(crate) fn take(&mut self, robot: u32) -> Option<T> {
-        let at = std::mem::replace(&mut self.slot[robot as usize], ABSENT);
+        let at = self.slot.get(robot);
         if at == ABSENT {
             return None;
         }
+        self.slot.set(robot, ABSENT);
         let (_, item) = self.items.swap_remove(at as usize);
         if let Some(&(moved, _)) = self.items.get(at as usize) {
-            self.slot[moved as usize] = at;
+            self.slot.set(moved, at);
         }
         Some(item)
     }
@@ -48,7 +116,7 @@ impl<T> Roster<T> {
     /// The item of `robot`, if it is there.
     #[inline]
     pub(crate) fn get(&self, robot: u32) -> Option<&T> {
-        match self.slot[robot as usize] {
+        match self.slot.get(robot) {
             ABSENT => None,
             at => Some(&self.items[at as usize].1),
         }
@@ -56,8 +124,13 @@ impl<T> Roster<T> {
 
     /// Removes every robot.
     pub(crate) fn clear(&mut self) {
-        for &(robot, _) in &self.items {
-            self.slot[robot as usize] = ABSENT;
+        match &mut self.slot {
+            Slots::Dense(v) => {
+                for &(robot, _) in &self.items {
+                    v[robot as usize] = ABSENT;
+                }
+            }
+            Slots::Sparse(m) => m.clear(),
         }
         self.items.clear();
     }
@@ -74,7 +147,16 @@ mod tests {
 
     #[test]
     fn robots_come_and_go() {
-        let mut r = Roster::new(5);
+        for sparse in [false, true] {
+            robots_come_and_go_in(if sparse {
+                Roster::sparse()
+            } else {
+                Roster::new(5)
+            });
+        }
+    }
+
+    fn robots_come_and_go_in(mut r: Roster<char>) {
         r.insert(3, 'a');
         r.insert(1, 'b');
         r.insert(4, 'c');

@@ -32,13 +32,19 @@ pub struct KeptShape<P: IndexPoint> {
     seen: (u64, u64),
 }
 
+impl<P: IndexPoint> Default for KeptShape<P> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl<P: IndexPoint> KeptShape<P> {
-    /// For a swarm of `n` robots, at rest.
-    pub fn new(n: usize) -> Self {
+    /// For a swarm at rest.
+    pub fn new() -> Self {
         KeptShape {
-            rest: KeptHull::new(n),
-            outside: Roster::new(n),
-            between: Roster::new(n),
+            rest: KeptHull::new(),
+            outside: Roster::sparse(),
+            between: Roster::sparse(),
             seen: (0, 0),
         }
     }

@@ -12,11 +12,8 @@ pub(super) fn insert_async_resources<P: IndexPoint>(
     hull_initial: f64,
 ) {
     world.insert_resource(AsyncClock::new(initial.len()));
-    world.insert_resource(asynchrony::CommittedHull::<P>::new(
-        initial.len(),
-        hull_initial,
-    ));
-    world.insert_resource(asynchrony::KeptShape::<P>::new(initial.len()));
+    world.insert_resource(asynchrony::CommittedHull::<P>::new(hull_initial));
+    world.insert_resource(asynchrony::KeptShape::<P>::new());
     world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
     world.insert_resource(RobotEntities(Vec::new()));
 }
