@@ -35,22 +35,6 @@ impl<P: Copy + Sync> Locate<P> for [P] {
     }
 }
 
-impl<P: Copy + Sync> Locate<P> for Vec<P> {
-    #[inline(always)]
-    fn at(&self, k: usize) -> P {
-        self[k]
-    }
-
-    fn as_slice(&self) -> Option<&[P]> {
-        Some(self)
-    }
-
-    #[inline(always)]
-    fn prefetch(&self, k: usize) {
-        Locate::prefetch(self.as_slice(), k)
-    }
-}
-
 impl<P, T: Locate<P> + ?Sized> Locate<P> for &T {
     #[inline(always)]
     fn at(&self, k: usize) -> P {

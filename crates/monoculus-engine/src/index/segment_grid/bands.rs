@@ -80,22 +80,27 @@ impl Bands {
                 (r * cells + c) as u32
             })
             .collect();
+        // A counting sort with no second array of cells (a grid can have 16n of them):
+        // each cell's end, then its robots placed from the last one down, which leaves
+        // its start there and its robots ascending.
         for &k in &slot {
-            grid.start[k as usize + 1] += 1;
+            grid.start[k as usize] += 1;
         }
-        for k in 0..cells * bands {
-            grid.start[k + 1] += grid.start[k];
+        let mut end = 0;
+        for c in &mut grid.start[..cells * bands] {
+            end += *c;
+            *c = end;
         }
-        let mut fill = grid.start.clone();
-        for (i, &k) in slot.iter().enumerate() {
-            let at = fill[k as usize] as usize;
+        grid.start[cells * bands] = end;
+        for (i, &k) in slot.iter().enumerate().rev() {
+            grid.start[k as usize] -= 1;
+            let at = grid.start[k as usize] as usize;
             grid.items[at] = i as u32;
             grid.place[i] = at as u32;
             grid.coords[at] = [
                 (points[i].axis(0) - lo[0]) as f32,
                 (points[i].axis(1) - lo[1]) as f32,
             ];
-            fill[k as usize] += 1;
         }
         grid
     }

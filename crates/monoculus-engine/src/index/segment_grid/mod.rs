@@ -36,6 +36,11 @@ use bands::{BAND, Bands, CELL};
 pub(crate) use prefetch::prefetch;
 pub use stale::Stale;
 
+/// At most about this many cells per robot in each layout of a grid...
+const MOST_CELLS: f64 = 16.0;
+/// ...and of a [moving](SegmentGrid::moving) one.
+pub const MOST_MOVING_CELLS: f64 = 4.0;
+
 /// Robots bucketed for line-of-sight walks and radius queries over the first two
 /// coordinates, about one robot per cell.
 pub struct SegmentGrid {
@@ -58,17 +63,18 @@ pub struct SegmentGrid {
 impl SegmentGrid {
     /// A grid over the first two coordinates of `points`.
     pub fn new<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, false)
+        Self::build(points, false, MOST_CELLS)
     }
 
     /// The same, its two layouts built at once on two threads of the current rayon
     /// pool. Not from inside a parallel section whose tasks may ask for this grid:
     /// a thread waiting on the second layout may run such a task meanwhile.
     pub fn new_parallel<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, true)
+        Self::build(points, true, MOST_CELLS)
     }
 
-    fn build<P: Point + Sync>(points: &[P], parallel: bool) -> Self {
+    /// A grid with at most about `most` times as many cells per layout as robots.
+    fn build<P: Point + Sync>(points: &[P], parallel: bool, most: f64) -> Self {
         let n = points.len().max(1) as f64;
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
@@ -85,12 +91,12 @@ impl SegmentGrid {
         // The mean spacing in the swarm's core (its interquartile box holds about a
         // quarter of the robots): a converging swarm is dense in the middle with a few
         // robots far out, and lines of sight cross the core. But never more than about
-        // 16n cells per layout (straggling swarms: memory against walk length, see
+        // `most` n cells per layout (straggling swarms: memory against walk length, see
         // docs/performance.md), nor 4n for thin ones.
         let core = quartile_box_area(points) / (0.25 * n);
         let spacing = core
             .sqrt()
-            .max((ext[0] * ext[1] / (16.0 * n * BAND * CELL)).sqrt())
+            .max((ext[0] * ext[1] / (most * n * BAND * CELL)).sqrt())
             .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);
@@ -98,9 +104,11 @@ impl SegmentGrid {
     }
 
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
-    /// given a disc it stays in ([`SegmentGrid::set_disc`]); until then its point.
+    /// given a disc it stays in ([`SegmentGrid::set_disc`]); until then its point. At
+    /// most [`MOST_MOVING_CELLS`] cells per robot: such a grid is made often, so that
+    /// its cells cost time, and under ASYNC it shares the memory with the robots' clocks.
     pub fn moving<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, true)
+        Self::build(points, true, MOST_MOVING_CELLS)
     }
 
     /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of

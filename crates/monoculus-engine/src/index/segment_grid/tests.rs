@@ -9,14 +9,9 @@ fn brute(points: &[DVec2], i: usize, j: usize, v: &VisionParams) -> bool {
     (0..points.len()).any(|k| k != i && k != j && blocks(points[i], points[k], points[j], v))
 }
 
-/// Blockers at the edge of the blocking cone, on lines of every slope through a
-/// corner of the cells they are walked in (so a blocker sits across a band edge and
-/// a cell edge from where the line enters the band): the walk must find them all.
-#[test]
-fn blockers_at_the_cone_edge_next_to_cell_corners() {
-    let v = VisionParams::default();
-    let mut rng = Stream::new(7, 0, 0, 0);
-    // Robots 0..4 pin the bounds, so moving robots 4, 5 and 6 keeps the grid's cells.
+/// 404 robots in a square of side 20: the first four at its corners pin the bounds, so
+/// that moving robots 4, 5 and 6 about inside keeps the grid's cells.
+fn pinned_square(rng: &mut Stream) -> Vec<DVec2> {
     let mut pts = vec![
         DVec2::new(0.0, 0.0),
         DVec2::new(20.0, 0.0),
@@ -24,6 +19,17 @@ fn blockers_at_the_cone_edge_next_to_cell_corners() {
         DVec2::new(20.0, 20.0),
     ];
     pts.extend((0..400).map(|_| DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0)));
+    pts
+}
+
+/// Blockers at the edge of the blocking cone, on lines of every slope through a
+/// corner of the cells they are walked in (so a blocker sits across a band edge and
+/// a cell edge from where the line enters the band): the walk must find them all.
+#[test]
+fn blockers_at_the_cone_edge_next_to_cell_corners() {
+    let v = VisionParams::default();
+    let mut rng = Stream::new(7, 0, 0, 0);
+    let mut pts = pinned_square(&mut rng);
     let (i, j, k) = (4, 5, 6);
     let (mut checked, mut blocked) = (0, 0);
     while checked < 3000 {
@@ -55,7 +61,7 @@ fn blockers_at_the_cone_edge_next_to_cell_corners() {
                 pts[k] = corner + normal * (side * frac * v.eps_ang * (corner - p).length());
                 let expect = brute(&pts, i, j, &v);
                 assert_eq!(
-                    SegmentGrid::new(&pts).blocked(&pts, i, j, &v, 0.0),
+                    SegmentGrid::new(&pts).blocked(pts.as_slice(), i, j, &v, 0.0),
                     expect,
                     "{p} -> {q}, blocker {} ({frac})",
                     pts[k]
@@ -77,13 +83,7 @@ fn blockers_at_the_cone_edge_next_to_cell_corners() {
 fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
     let v = VisionParams::default();
     let mut rng = Stream::new(9, 0, 0, 0);
-    let mut pts = vec![
-        DVec2::new(0.0, 0.0),
-        DVec2::new(20.0, 0.0),
-        DVec2::new(0.0, 20.0),
-        DVec2::new(20.0, 20.0),
-    ];
-    pts.extend((0..400).map(|_| DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0)));
+    let mut pts = pinned_square(&mut rng);
     let (i, j, k) = (4, 5, 6);
     let mut checked = 0;
     while checked < 2000 {
@@ -110,7 +110,7 @@ fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
         let expect = (0..now.len()).any(|r| r != i && r != j && blocks(p, now[r], q, &v));
         assert!(expect, "a robot on the line blocks");
         assert!(
-            grid.blocked(&now, i, j, &v, drift),
+            grid.blocked(now.as_slice(), i, j, &v, drift),
             "{p} -> {q}: blocker held {} away",
             0.999 * drift
         );
@@ -192,7 +192,7 @@ fn the_single_precision_filter_keeps_blockers_it_cannot_resolve() {
         pts[k] = p + d * t + normal * (frac * v.eps_ang * t * d.length());
         let expect = brute(&pts, i, j, &v);
         assert_eq!(
-            SegmentGrid::new(&pts).blocked(&pts, i, j, &v, 0.0),
+            SegmentGrid::new(&pts).blocked(pts.as_slice(), i, j, &v, 0.0),
             expect,
             "{p} -> {q}, blocker {} ({frac})",
             pts[k]
