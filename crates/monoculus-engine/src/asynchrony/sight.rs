@@ -17,15 +17,15 @@ use crate::systems::build_sight;
 
 /// The sight of ASYNC's Looks, kept across ticks. In the plane it is a band grid over
 /// the positions of the tick it was made at ([`SpatialIndex::moving`]), which robots
-/// leave as they move: each robot in mid-move is given, when its move starts, a reach
-/// covering every position it takes until the grid's last tick (its segment is known
-/// from the Look that decided it), so nothing is done for it at the ticks in between,
-/// and a Look's queries place it on its segment only where they ask for it
-/// ([`TickSight`]). A robot whose reach would pass the grid's limit (two cells) is
-/// stale: tested one by one. The grid is made again at the first tick with Looks
-/// after its last tick, or when too many robots are stale. So a tick costs its events
-/// and its Looks, whatever the time resolution. Every answer is that of a sight taken
-/// afresh over the tick's positions (tested, with robots in mid-move).
+/// leave as they move: each robot in mid-move is given, when its move starts, the disc
+/// its segment sweeps until the grid's last tick (the segment is known from the Look
+/// that decided it), so nothing is done for it at the ticks in between, and a Look's
+/// queries place it on its segment only where they ask for it ([`TickSight`]). A robot
+/// whose disc would reach farther than the grid's limit (two cells) from where the
+/// grid holds it is stale: tested one by one. The grid is made again at the first tick
+/// with Looks after its last tick, or when too many robots are stale. So a tick costs
+/// its events and its Looks, whatever the time resolution. Every answer is that of a
+/// sight taken afresh over the tick's positions (tested, with robots in mid-move).
 ///
 /// Elsewhere (space, the brute-force and R-tree backends, fat robots) a sight is taken
 /// afresh at every tick with Looks.
@@ -86,7 +86,7 @@ struct Moving<P: IndexPoint> {
     index: P::Index,
     /// The tick it was made at.
     made: u64,
-    /// The last tick at which the robots are within their reaches.
+    /// The last tick at which the robots are within their discs.
     last: u64,
     /// Stale robots beyond which the index is made again.
     stale_limit: usize,
