@@ -18,6 +18,14 @@ pub enum Phase {
     Move,
 }
 
+impl Phase {
+    /// The phase's place in lists by phase.
+    #[inline]
+    pub fn at(self) -> usize {
+        self as usize
+    }
+}
+
 /// A robot's ASYNC clock.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Timing<P: IndexPoint> {
@@ -82,6 +90,9 @@ pub struct AsyncClock {
     spare: Vec<Vec<u32>>,
     /// Robots whose phase ends at the current tick, ascending.
     pub due: Vec<u32>,
+    /// The robots of `due` by the phase that ends (indexed by [`Phase::at`]), each list
+    /// ascending: filled by [`AsyncClock::sort_due`].
+    ending: [Vec<u32>; 3],
     /// (robot, tick of its Look) of the cycles completed at the current tick.
     pub completed: Vec<(u32, u64)>,
     /// Whether a move ended at the current tick.
@@ -125,6 +136,7 @@ impl AsyncClock {
     /// Moves to the next tick with phase ends; `false` if nothing is scheduled.
     pub fn advance(&mut self) -> bool {
         self.due.clear();
+        self.ending.iter_mut().for_each(Vec::clear);
         self.completed.clear();
         self.move_ended = false;
         self.move_decided = false;
@@ -143,6 +155,39 @@ impl AsyncClock {
             self.spare.push(due);
         }
         true
+    }
+
+    /// Sorts the robots of `due` by the phase that ends now: `ends(robot)` is that
+    /// phase, `None` for a robot whose phase does not end now. Where there are
+    /// `parallel_from` robots or more, they are asked in parallel (reading each
+    /// robot's clock is a miss in the caches, and a crowded tick has thousands).
+    pub fn sort_due(&mut self, parallel_from: usize, ends: impl Fn(u32) -> Option<Phase> + Sync) {
+        use rayon::prelude::*;
+        let phases: Vec<Option<Phase>> = if self.due.len() >= parallel_from {
+            self.due
+                .par_iter()
+                .with_min_len(64)
+                .map(|&r| ends(r))
+                .collect()
+        } else {
+            self.due.iter().map(|&r| ends(r)).collect()
+        };
+        for (&r, phase) in self.due.iter().zip(phases) {
+            if let Some(phase) = phase {
+                self.ending[phase.at()].push(r);
+            }
+        }
+    }
+
+    /// The robots whose `phase` ends at the current tick, ascending (taken out of
+    /// the clock; give them back with [`AsyncClock::restore_ending`]).
+    pub fn take_ending(&mut self, phase: Phase) -> Vec<u32> {
+        std::mem::take(&mut self.ending[phase.at()])
+    }
+
+    /// Gives back a list [`AsyncClock::take_ending`] took.
+    pub fn restore_ending(&mut self, phase: Phase, robots: Vec<u32>) {
+        self.ending[phase.at()] = robots;
     }
 
     /// Counts the cycles completed at this tick toward the current epoch; ends the
@@ -198,5 +243,36 @@ mod tests {
         assert_eq!((clock.tick, clock.due.clone()), (9, vec![0, 5]));
         assert!(!clock.advance());
         assert!(clock.due.is_empty());
+    }
+
+    #[test]
+    fn the_robots_of_a_tick_are_sorted_by_the_phase_that_ends_serially_or_not() {
+        use super::Phase;
+        let phase = |r: u32| match r % 4 {
+            0 => Some(Phase::Move),
+            1 => Some(Phase::Idle),
+            2 => Some(Phase::Compute),
+            _ => None,
+        };
+        for parallel_from in [0, usize::MAX] {
+            let mut clock = AsyncClock::new(1000);
+            for r in (0..1000).rev() {
+                clock.schedule(7, r);
+            }
+            assert!(clock.advance());
+            clock.sort_due(parallel_from, phase);
+            for (p, rest) in [(Phase::Move, 0), (Phase::Idle, 1), (Phase::Compute, 2)] {
+                let ending = clock.take_ending(p);
+                let expected: Vec<u32> = (0..1000).filter(|r| r % 4 == rest).collect();
+                assert_eq!(ending, expected, "{p:?}, parallel from {parallel_from}");
+                clock.restore_ending(p, ending);
+            }
+            clock.schedule(8, 3);
+            assert!(clock.advance());
+            assert!(
+                clock.take_ending(Phase::Move).is_empty(),
+                "emptied by advance"
+            );
+        }
     }
 }

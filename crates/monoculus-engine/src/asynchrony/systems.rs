@@ -71,9 +71,20 @@ fn go_idle<P: IndexPoint>(
     clock.schedule(timing.until, robot);
 }
 
-/// Advance: the next tick with phase ends.
-pub fn advance(mut clock: ResMut<AsyncClock>) {
-    clock.advance();
+/// Advance: the next tick with phase ends, its robots sorted by the phase that ends.
+pub fn advance<P: IndexPoint>(
+    mut clock: ResMut<AsyncClock>,
+    entities: Res<RobotEntities>,
+    robots: Query<&Timing<P>>,
+) {
+    if !clock.advance() {
+        return;
+    }
+    let t = clock.tick;
+    clock.sort_due(MANY_EVENTS, |r| {
+        let timing = robots.get(entities.0[r as usize]).expect("robot entity");
+        (timing.until == t).then_some(timing.phase)
+    });
 }
 
 /// FinishMoves.
@@ -87,27 +98,26 @@ pub fn finish_moves<P: IndexPoint>(
     mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
-    for k in 0..clock.due.len() {
-        let r = clock.due[k];
+    let ending = clock.take_ending(Phase::Move);
+    for &r in &ending {
         let mut timing = robots
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
-        if timing.phase == Phase::Move && timing.until == t {
-            if timing.pending.is_some() {
-                if params.is_correct(r as usize) {
-                    committed.arrive(r);
-                }
-                let target = timing.target(positions.points[r as usize]);
-                positions.points[r as usize] = target;
-                kept_shape.arrive(r, target);
-                sight.arrive(r, target, t);
-                clock.move_ended = true;
-                clock.in_motion -= 1;
-                timing.pending = None;
+        if timing.pending.is_some() {
+            if params.is_correct(r as usize) {
+                committed.arrive(r);
             }
-            go_idle(&params, &mut clock, r, &mut timing);
+            let target = timing.target(positions.points[r as usize]);
+            positions.points[r as usize] = target;
+            kept_shape.arrive(r, target);
+            sight.arrive(r, target, t);
+            clock.move_ended = true;
+            clock.in_motion -= 1;
+            timing.pending = None;
         }
+        go_idle(&params, &mut clock, r, &mut timing);
     }
+    clock.restore_ending(Phase::Move, ending);
     if clock.move_ended {
         positions.generation += 1;
     }
@@ -124,15 +134,12 @@ pub fn finish_computes<P: IndexPoint>(
     mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
-    for k in 0..clock.due.len() {
-        let r = clock.due[k];
+    let ending = clock.take_ending(Phase::Compute);
+    for &r in &ending {
         let mut timing = robots
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
         let position = positions.points[r as usize];
-        if timing.phase != Phase::Compute || timing.until != t {
-            continue;
-        }
         // A robot that decided to stay spends its Move phase in place, so that every
         // cycle is Idle, Look, Compute, Move whatever the decision.
         let d = timing.pending;
@@ -151,6 +158,7 @@ pub fn finish_computes<P: IndexPoint>(
         }
         clock.schedule(timing.until, r);
     }
+    clock.restore_ending(Phase::Compute, ending);
 }
 
 /// Positions of all robots at the current tick: movers on their segments.
@@ -219,25 +227,20 @@ pub fn look<P: IndexPoint>(
     mut robots: Query<LookerData<P>>,
 ) {
     let t = clock.tick;
-    let lookers: Vec<u32> = clock
-        .due
-        .iter()
-        .copied()
-        .filter(|&r| {
-            let (_, timing, _) = robots.get(entities.0[r as usize]).expect("robot entity");
-            timing.phase == Phase::Idle && timing.until == t
-        })
-        .collect();
+    let lookers = clock.take_ending(Phase::Idle);
     if lookers.is_empty() {
+        clock.restore_ending(Phase::Idle, lookers);
         return;
     }
-    let inputs: Vec<(u32, u64, Option<RobotMemory>)> = lookers
-        .iter()
-        .map(|&r| {
-            let (_, timing, memory) = robots.get(entities.0[r as usize]).expect("robot entity");
-            (r, timing.cycle, memory.map(|m| m.0))
-        })
-        .collect();
+    let input = |&r: &u32| {
+        let (_, timing, memory) = robots.get(entities.0[r as usize]).expect("robot entity");
+        (r, timing.cycle, memory.map(|m| m.0))
+    };
+    let inputs: Vec<(u32, u64, Option<RobotMemory>)> = if lookers.len() >= MANY_EVENTS {
+        lookers.par_iter().with_min_len(64).map(input).collect()
+    } else {
+        lookers.iter().map(input).collect()
+    };
     // The hull and box the Looks may ask for come from the kept shape (its work done
     // here rather than in Account, at the same tick).
     let pos = &positions.points;
@@ -286,6 +289,7 @@ pub fn look<P: IndexPoint>(
         .iter()
         .filter(|&&r| params.is_correct(r as usize))
         .count() as u64;
+    clock.restore_ending(Phase::Idle, lookers);
 }
 
 /// The points whose hull Lemma 2 bounds under ASYNC: every robot's position at the

@@ -51,7 +51,7 @@ pub(super) fn wire_async<P: IndexPoint>(
             .chain(),
     );
     schedule.add_systems((
-        asynchrony::advance.in_set(AsyncSet::Advance),
+        asynchrony::advance::<P>.in_set(AsyncSet::Advance),
         asynchrony::finish_moves::<P>.in_set(AsyncSet::FinishMoves),
         asynchrony::finish_computes::<P>.in_set(AsyncSet::FinishComputes),
         asynchrony::look::<P>.in_set(AsyncSet::Look),
