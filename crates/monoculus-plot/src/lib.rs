@@ -33,6 +33,7 @@ macro_rules! both {
     }};
 }
 
+mod boxes;
 mod error;
 mod font;
 mod impossibility;

@@ -7,6 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::PlotError;
+use crate::boxes::{BoxSummary, TukeyBox};
 use monoculus_experiments::results::RunMetrics;
 
 use crate::table::{Cells, Table};
@@ -286,16 +287,16 @@ fn draw_boxes<DB: DrawingBackend>(
         let color = PALETTE[s % PALETTE.len()];
         let offset = (s as f64 - (m - 1.0) / 2.0) * (width as f64 + 4.0);
         let boxes: Vec<_> = (0..k)
-            .filter(|&c| !fig.values[c][s].is_empty())
-            .map(|c| {
-                Boxplot::new_vertical(
-                    SegmentValue::CenterOf(c),
-                    &Quartiles::new(&fig.values[c][s]),
-                )
-                .width(width)
-                .whisker_width(0.6)
-                .style(color.stroke_width(2))
-                .offset(offset)
+            .filter_map(|c| {
+                BoxSummary::of(&fig.values[c][s]).map(|summary| {
+                    TukeyBox::new(
+                        SegmentValue::CenterOf(c),
+                        &summary,
+                        color.stroke_width(2),
+                        width,
+                        offset,
+                    )
+                })
             })
             .collect();
         chart
