@@ -10,13 +10,25 @@ fn run_in_pool(
     kind: AlgorithmKind,
     scheduler: SchedulerSpec,
 ) -> (RunOutcome, Vec<glam::DVec2>) {
+    run_sized(threads, kind, scheduler, 300, 20_000)
+}
+
+fn run_sized(
+    threads: usize,
+    kind: AlgorithmKind,
+    scheduler: SchedulerSpec,
+    n: usize,
+    max_rounds: u64,
+) -> (RunOutcome, Vec<glam::DVec2>) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
     pool.install(|| {
-        let cfg = common::config(kind, scheduler.clone(), 42);
-        let mut sim = Simulation::new(cfg.clone(), common::square(300, 30.0, 42)).unwrap();
+        let mut cfg = common::config(kind, scheduler.clone(), 42);
+        cfg.stop.max_rounds = max_rounds;
+        let side = (n as f64).sqrt() * 1.7;
+        let mut sim = Simulation::new(cfg.clone(), common::square(n, side, 42)).unwrap();
         let out = sim.run();
         (out, sim.positions().to_vec())
     })
@@ -43,5 +55,28 @@ fn results_do_not_depend_on_thread_count() {
             assert_eq!(pa, pb);
             assert_eq!(pa, pc);
         }
+    }
+}
+
+#[test]
+fn async_results_do_not_depend_on_thread_count() {
+    // 1,500 robots Looking together, then cycles of a few ticks: ticks of hundreds of
+    // events, whose work (sorting the tick's robots, the structures told of moves that
+    // start and end, the Looks) is shared between threads. Three epochs, then the
+    // run's outcome and every position.
+    let spec = AsyncSpec {
+        idle: TickDist::Uniform { min: 1, max: 3 },
+        compute: TickDist::Uniform { min: 1, max: 2 },
+        motion: TickDist::Exponential { mean: 2.0 },
+        start: AsyncStart::Together,
+    };
+    let kind = AlgorithmKind::ConvergeLocality;
+    let scheduler = SchedulerSpec::Async(spec);
+    let (a, pa) = run_sized(1, kind, scheduler.clone(), 1500, 3);
+    assert!(a.activations >= 3 * 1500, "{a:?}");
+    for threads in [2, 5] {
+        let (b, pb) = run_sized(threads, kind, scheduler.clone(), 1500, 3);
+        assert_eq!(a, b, "{threads} threads");
+        assert_eq!(pa, pb, "{threads} threads");
     }
 }

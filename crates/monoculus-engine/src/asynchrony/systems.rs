@@ -99,18 +99,15 @@ pub fn finish_moves<P: IndexPoint>(
 ) {
     let t = clock.tick;
     let ending = clock.take_ending(Phase::Move);
+    let mut arrived: Vec<(u32, P)> = Vec::new();
     for &r in &ending {
         let mut timing = robots
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
         if timing.pending.is_some() {
-            if params.is_correct(r as usize) {
-                committed.arrive(r);
-            }
             let target = timing.target(positions.points[r as usize]);
             positions.points[r as usize] = target;
-            kept_shape.arrive(r, target);
-            sight.arrive(r, target, t);
+            arrived.push((r, target));
             clock.move_ended = true;
             clock.in_motion -= 1;
             timing.pending = None;
@@ -121,6 +118,25 @@ pub fn finish_moves<P: IndexPoint>(
     if clock.move_ended {
         positions.generation += 1;
     }
+    // The structures that follow the moves are told of the arrivals in robot order,
+    // each on its own thread on a crowded tick.
+    let (committed, kept_shape, sight) = (&mut *committed, &mut *kept_shape, &mut *sight);
+    join_if(
+        arrived.len() >= MANY_EVENTS,
+        || {
+            for &(r, target) in &arrived {
+                if params.is_correct(r as usize) {
+                    committed.arrive(r);
+                }
+                kept_shape.arrive(r, target);
+            }
+        },
+        || {
+            for &(r, target) in &arrived {
+                sight.arrive(r, target, t);
+            }
+        },
+    );
 }
 
 /// FinishComputes.
@@ -135,11 +151,11 @@ pub fn finish_computes<P: IndexPoint>(
 ) {
     let t = clock.tick;
     let ending = clock.take_ending(Phase::Compute);
+    let mut departed: Vec<(u32, P, Timing<P>)> = Vec::new();
     for &r in &ending {
         let mut timing = robots
             .get_mut(entities.0[r as usize])
             .expect("robot entity");
-        let position = positions.points[r as usize];
         // A robot that decided to stay spends its Move phase in place, so that every
         // cycle is Idle, Look, Compute, Move whatever the decision.
         let d = timing.pending;
@@ -147,8 +163,7 @@ pub fn finish_computes<P: IndexPoint>(
         timing.since = t;
         timing.until = t + duration(&params, r, timing.cycle, MOVE, spec(&params).motion);
         if let Some(d) = d {
-            kept_shape.depart(r, position, *timing);
-            sight.depart(r, position, *timing);
+            departed.push((r, positions.points[r as usize], *timing));
             // Moves count the correct robots only (SPEC 9.1).
             if params.is_correct(r as usize) {
                 tally.moves += 1;
@@ -159,6 +174,21 @@ pub fn finish_computes<P: IndexPoint>(
         clock.schedule(timing.until, r);
     }
     clock.restore_ending(Phase::Compute, ending);
+    // As for the arrivals: in robot order, a structure a thread.
+    let (kept_shape, sight) = (&mut *kept_shape, &mut *sight);
+    join_if(
+        departed.len() >= MANY_EVENTS,
+        || {
+            for &(r, from, timing) in &departed {
+                kept_shape.depart(r, from, timing);
+            }
+        },
+        || {
+            for &(r, from, timing) in &departed {
+                sight.depart(r, from, timing);
+            }
+        },
+    );
 }
 
 /// Positions of all robots at the current tick: movers on their segments.
