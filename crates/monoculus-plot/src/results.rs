@@ -255,6 +255,10 @@ fn draw_boxes<DB: DrawingBackend>(
         (lo, hi) = (0.0, 1.0);
     }
     let pad = ((hi - lo) * 0.08).max(0.05);
+    // Room above the data for the legend (upper left, about 20 pixels a series in a
+    // plotting area about 430 high), so that it hides no box and no outlier.
+    let legend = (12.0 + 20.0 * fig.series.len() as f64) / 430.0;
+    let top = hi + pad + (hi - lo + 2.0 * pad) * legend / (1.0 - legend);
     let k = fig.categories.len();
     let mut chart = ChartBuilder::on(&root)
         .caption(&fig.title, ("sans-serif", 22))
@@ -263,7 +267,7 @@ fn draw_boxes<DB: DrawingBackend>(
         .y_label_area_size(60)
         .build_cartesian_2d(
             (0..k - 1).into_segmented(),
-            ((lo - pad) as f32)..((hi + pad) as f32),
+            ((lo - pad) as f32)..(top as f32),
         )
         .map_err(e)?;
     let labels: Vec<String> = fig.categories.iter().map(|c| short_label(c)).collect();
