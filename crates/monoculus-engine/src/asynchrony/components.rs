@@ -18,14 +18,6 @@ pub enum Phase {
     Move,
 }
 
-impl Phase {
-    /// The phase's place in lists by phase.
-    #[inline]
-    pub fn at(self) -> usize {
-        self as usize
-    }
-}
-
 /// A robot's ASYNC clock.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Timing<P: IndexPoint> {
@@ -90,7 +82,7 @@ pub struct AsyncClock {
     spare: Vec<Vec<u32>>,
     /// Robots whose phase ends at the current tick, ascending.
     pub due: Vec<u32>,
-    /// The robots of `due` by the phase that ends (indexed by [`Phase::at`]), each list
+    /// The robots of `due` by the phase that ends (indexed by the phase), each list
     /// ascending: filled by [`AsyncClock::sort_due`].
     ending: [Vec<u32>; 3],
     /// (robot, tick of its Look) of the cycles completed at the current tick.
@@ -174,7 +166,7 @@ impl AsyncClock {
         };
         for (&r, phase) in self.due.iter().zip(phases) {
             if let Some(phase) = phase {
-                self.ending[phase.at()].push(r);
+                self.ending[phase as usize].push(r);
             }
         }
     }
@@ -182,12 +174,12 @@ impl AsyncClock {
     /// The robots whose `phase` ends at the current tick, ascending (taken out of
     /// the clock; give them back with [`AsyncClock::restore_ending`]).
     pub fn take_ending(&mut self, phase: Phase) -> Vec<u32> {
-        std::mem::take(&mut self.ending[phase.at()])
+        std::mem::take(&mut self.ending[phase as usize])
     }
 
     /// Gives back a list [`AsyncClock::take_ending`] took.
     pub fn restore_ending(&mut self, phase: Phase, robots: Vec<u32>) {
-        self.ending[phase.at()] = robots;
+        self.ending[phase as usize] = robots;
     }
 
     /// Counts the cycles completed at this tick toward the current epoch; ends the
