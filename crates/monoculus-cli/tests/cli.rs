@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{monoculus as run, ok, reported, rows_without_wall, write_config};
+use common::{csv_rows_without, monoculus as run, ok, reported, rows_without_wall, write_config};
 
 const SMALL: &str = r#"
 name = "small"
@@ -105,6 +105,60 @@ fn threads_do_not_change_results() {
         std::fs::read_to_string(a.join("summary.csv")).unwrap(),
         std::fs::read_to_string(b.join("summary.csv")).unwrap()
     );
+}
+
+#[test]
+fn progress_lines_report_each_run_without_changing_results() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = write_config(tmp.path(), SMALL);
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    ok(&["run", cfg.to_str().unwrap(), "--out", a.to_str().unwrap()]);
+    let out = run(&[
+        "run",
+        cfg.to_str().unwrap(),
+        "--out",
+        b.to_str().unwrap(),
+        "--progress",
+        "0.000001",
+    ]);
+    assert!(out.status.success());
+    assert_eq!(rows_without_wall(&a), rows_without_wall(&b));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    // One closing line per run with its rounds, and lines while the runs went.
+    let ends: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.ends_with("(converged)") || l.ends_with("(stopped)"))
+        .collect();
+    assert_eq!(ends.len(), 16, "{stderr}");
+    let rows = csv_rows_without(&b.join("runs.csv"), &[]);
+    let h = csv::Reader::from_path(b.join("runs.csv"))
+        .unwrap()
+        .headers()
+        .unwrap()
+        .clone();
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    for row in &rows {
+        let line = format!(
+            "small {} seed {}: round {},",
+            row[col("cell")],
+            row[col("seed")],
+            row[col("rounds")]
+        );
+        assert!(
+            ends.iter().any(|l| l.starts_with(&line)),
+            "no line `{line}...` in {stderr}"
+        );
+    }
+    assert!(
+        stderr.lines().count() > ends.len() && stderr.contains(": round 1, diameter "),
+        "{stderr}"
+    );
+    for bad in ["0", "-1", "soon", "inf"] {
+        let flag = format!("--progress={bad}");
+        let e = run(&["run", cfg.to_str().unwrap(), &flag]);
+        assert_eq!(e.status.code(), Some(2), "--progress {bad}");
+        assert!(String::from_utf8_lossy(&e.stderr).contains("--progress"));
+    }
 }
 
 #[test]

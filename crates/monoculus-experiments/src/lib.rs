@@ -26,4 +26,7 @@ pub fn one_line(text: &str) -> String {
     }
     out
 }
-pub use runner::{RunOptions, SweepError, SweepReport, run_experiment, run_one};
+pub use runner::{
+    Progress, RunOptions, RunProgress, SweepError, SweepReport, run_experiment, run_one,
+    run_one_with,
+};

@@ -4,10 +4,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use glam::{DVec2, DVec3};
-use monoculus_engine::{EngineError, IndexPoint, RunOutcome, Simulation};
+use monoculus_engine::{EngineError, IndexPoint, RunOutcome, SchedulerSpec, Simulation};
 use rayon::prelude::*;
 
 use crate::config::{Cell, Experiment, RunId};
@@ -58,25 +58,122 @@ pub enum SweepError {
     },
 }
 
+/// Where one run has got to: what [`Progress::round`] and [`Progress::finished`] are told.
+#[derive(Clone, Copy, Debug)]
+pub struct RunProgress<'a> {
+    /// The cell's key.
+    pub cell: &'a str,
+    /// The seed.
+    pub seed: u64,
+    /// What a round is called: `"epoch"` under ASYNC, else `"round"`.
+    pub unit: &'static str,
+    /// Rounds (ASYNC: epochs) completed.
+    pub round: u64,
+    /// The swarm's diameter after them.
+    pub diameter: f64,
+    /// Time since the run started.
+    pub elapsed: Duration,
+}
+
+/// What a sweep tells about its progress. Results never depend on it.
+pub trait Progress: Sync {
+    /// `done` of the `pending` runs have finished.
+    fn runs(&self, done: usize, pending: usize);
+
+    /// How often a running run reports its rounds to [`Progress::round`]; `None` (the
+    /// default): never.
+    fn interval(&self) -> Option<Duration> {
+        None
+    }
+
+    /// A running run, at most once per [`Progress::interval`].
+    fn round(&self, _at: &RunProgress<'_>) {}
+
+    /// A run finished (its row is written), when [`Progress::interval`] is set.
+    fn finished(&self, _at: &RunProgress<'_>, _converged: bool) {}
+}
+
+/// No progress reports.
+impl Progress for () {
+    fn runs(&self, _done: usize, _pending: usize) {}
+}
+
 /// Runs one (cell, seed) and times it.
 pub fn run_one(cell: &Cell, seed: u64) -> Result<(RunOutcome, f64), EngineError> {
-    fn go<P: IndexPoint>(cell: &Cell, seed: u64) -> Result<RunOutcome, EngineError> {
-        Ok(Simulation::<P>::new(cell.sim_config(seed), cell.initial_positions(seed))?.run())
+    run_one_with(cell, seed, &mut |_, _| {})
+}
+
+/// Runs one (cell, seed) and times it, calling `on_round(rounds, diameter)` with the
+/// start (0 rounds) and after every round (ASYNC: every epoch).
+pub fn run_one_with(
+    cell: &Cell,
+    seed: u64,
+    on_round: &mut dyn FnMut(u64, f64),
+) -> Result<(RunOutcome, f64), EngineError> {
+    fn go<P: IndexPoint>(
+        cell: &Cell,
+        seed: u64,
+        on_round: &mut dyn FnMut(u64, f64),
+    ) -> Result<RunOutcome, EngineError> {
+        Ok(
+            Simulation::<P>::new(cell.sim_config(seed), cell.initial_positions(seed))?
+                .run_with(|r| on_round(r.round, r.diameter)),
+        )
     }
     let start = Instant::now();
     let outcome = match cell.dim() {
-        3 => go::<DVec3>(cell, seed)?,
-        _ => go::<DVec2>(cell, seed)?,
+        3 => go::<DVec3>(cell, seed, on_round)?,
+        _ => go::<DVec2>(cell, seed, on_round)?,
     };
     Ok((outcome, start.elapsed().as_secs_f64() * 1e3))
 }
 
-/// Runs the experiment into `out`, calling `progress(done, pending)` after each run.
+/// Runs one (cell, seed), telling `progress` where it is every `progress.interval()`.
+fn run_reported(
+    cell: &Cell,
+    seed: u64,
+    progress: &dyn Progress,
+) -> Result<(RunOutcome, f64), EngineError> {
+    let Some(every) = progress.interval() else {
+        return run_one(cell, seed);
+    };
+    let unit = match cell.sim_config(seed).scheduler {
+        SchedulerSpec::Async(_) => "epoch",
+        _ => "round",
+    };
+    let start = Instant::now();
+    let mut due = start + every;
+    let at = |round, diameter| RunProgress {
+        cell: &cell.key,
+        seed,
+        unit,
+        round,
+        diameter,
+        elapsed: start.elapsed(),
+    };
+    let (outcome, ms) = run_one_with(cell, seed, &mut |round, diameter| {
+        // One clock read a round: a few tens of nanoseconds against rounds of at least
+        // microseconds.
+        let now = Instant::now();
+        if now >= due {
+            due = now + every;
+            progress.round(&at(round, diameter));
+        }
+    })?;
+    progress.finished(
+        &at(outcome.rounds, outcome.final_diameter),
+        outcome.converged,
+    );
+    Ok((outcome, ms))
+}
+
+/// Runs the experiment into `out`, telling `progress` after each run (and, if it asks,
+/// during them).
 pub fn run_experiment(
     exp: &Experiment,
     out: &Path,
     options: RunOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<SweepReport, SweepError> {
     let results = ResultsDir::open(
         out,
@@ -96,13 +193,13 @@ pub fn run_experiment(
     let skipped = total - pending.len();
     let finished = AtomicUsize::new(0);
     let failure: Mutex<Option<SweepError>> = Mutex::new(None);
-    progress(0, pending.len());
+    progress.runs(0, pending.len());
     pending.par_iter().with_max_len(1).for_each(|run| {
         if failure.lock().map(|f| f.is_some()).unwrap_or(true) {
             return;
         }
         let cell = &exp.cells[run.cell];
-        let result = run_one(cell, run.seed)
+        let result = run_reported(cell, run.seed, progress)
             .map_err(|cause| SweepError::Engine {
                 cell: cell.key.clone(),
                 seed: run.seed,
@@ -116,7 +213,7 @@ pub fn run_experiment(
             f.get_or_insert(e);
             return;
         }
-        progress(finished.fetch_add(1, Ordering::SeqCst) + 1, pending.len());
+        progress.runs(finished.fetch_add(1, Ordering::SeqCst) + 1, pending.len());
     });
     if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
         results.finish(exp)?;

@@ -210,7 +210,7 @@ fn mutated_result_files_read_or_fail_in_one_line() {
     let text = "name = \"f\"\nseeds = 3\n[swarm]\nn = [4, 6]\ninit = \"square\"\nside = 4.0\n[algorithm]\nname = \"converge_locality\"\n";
     let exp = Experiment::parse(text, "f.toml", tmp.path(), &[]).unwrap();
     let out = tmp.path().join("o");
-    monoculus_experiments::run_experiment(&exp, &out, Default::default(), &|_, _| {}).unwrap();
+    monoculus_experiments::run_experiment(&exp, &out, Default::default(), &()).unwrap();
     let runs = std::fs::read_to_string(out.join("runs.csv")).unwrap();
     let provenance = std::fs::read_to_string(out.join("provenance.toml")).unwrap();
     let stress = "measurement,measurements,n,threads,algorithm,scheduler,backend,timing,init,seed,rounds,setup_s,total_s,round_s_min,round_s_median,round_s_max,activations,activations_per_s,peak_memory_mb,host,job,monoculus_version,git_commit\n0,1,100,1,converge_locality,fsync,index,,square,1,2,0.1,0.2,0.1,0.1,0.1,200,1000,12,h,,0.1.0,abc\n";

@@ -136,7 +136,7 @@ fn outcomes_are_bit_identical_to_the_checked_in_ones() {
     for (name, text) in SWEEPS {
         let exp = Experiment::parse(text, name, tmp.path(), &[]).unwrap();
         let out = tmp.path().join(name);
-        run_experiment(&exp, &out, Default::default(), &|_, _| {}).unwrap();
+        run_experiment(&exp, &out, Default::default(), &()).unwrap();
         let (hash, rows) = outcome_hash(&out.join("runs.csv"));
         assert_eq!(rows, exp.cells.len() * exp.seeds.len());
         got.insert(name.to_string(), format!("{hash} {rows}"));

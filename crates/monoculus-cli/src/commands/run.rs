@@ -1,8 +1,9 @@
 use std::path::PathBuf;
+use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use monoculus_experiments::shard::{Shard, job_id};
-use monoculus_experiments::{RunOptions, run_experiment};
+use monoculus_experiments::{Progress, RunOptions, RunProgress, run_experiment};
 
 use super::{ConfigArgs, Failure, env_var, thread_pool};
 
@@ -24,6 +25,98 @@ pub struct RunArgs {
     /// Start over: discard the results already in the folder (with --shard: the shard's).
     #[arg(long)]
     force: bool,
+    /// Also print a line to stderr for each running run at most every SECONDS (the round
+    /// or epoch it has reached, its diameter, its time), and one when it ends: for long
+    /// runs and batch jobs' logs, where no progress bar is drawn.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    progress: Option<Duration>,
+}
+
+fn parse_seconds(s: &str) -> Result<Duration, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 && x <= 1e9 => Ok(Duration::from_secs_f64(x)),
+        _ => Err(format!("`{s}` is not a positive number of seconds")),
+    }
+}
+
+/// The bar (on a terminal) and the `--progress` lines.
+struct Reporter {
+    bar: ProgressBar,
+    name: String,
+    /// `--progress`.
+    lines: Option<Duration>,
+}
+
+/// `1h02m03s`, `2m03s`, `3.4s`.
+fn clock(d: Duration) -> String {
+    let s = d.as_secs();
+    match s {
+        0..60 => format!("{:.1}s", d.as_secs_f64()),
+        60..3600 => format!("{}m{:02}s", s / 60, s % 60),
+        _ => format!("{}h{:02}m{:02}s", s / 3600, s / 60 % 60, s % 60),
+    }
+}
+
+impl Reporter {
+    fn say(&self, line: String) {
+        if self.bar.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            self.bar.println(line);
+        }
+    }
+
+    fn where_at(&self, at: &RunProgress<'_>) -> String {
+        let cell = if at.cell.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", at.cell)
+        };
+        format!(
+            "{}{cell} seed {}: {} {}, diameter {:.6}, {}",
+            self.name,
+            at.seed,
+            at.unit,
+            at.round,
+            at.diameter,
+            clock(at.elapsed)
+        )
+    }
+}
+
+impl Progress for Reporter {
+    fn runs(&self, done: usize, pending: usize) {
+        self.bar.set_length(pending as u64);
+        self.bar.set_position(done as u64);
+    }
+
+    fn interval(&self) -> Option<Duration> {
+        // On a terminal the bar shows the latest run's state every second.
+        match (self.lines, self.bar.is_hidden()) {
+            (Some(every), _) => Some(every),
+            (None, false) => Some(Duration::from_secs(1)),
+            (None, true) => None,
+        }
+    }
+
+    fn round(&self, at: &RunProgress<'_>) {
+        if !self.bar.is_hidden() {
+            self.bar.set_message(format!(
+                "{}: seed {} {} {}",
+                self.name, at.seed, at.unit, at.round
+            ));
+        }
+        if self.lines.is_some() {
+            self.say(self.where_at(at));
+        }
+    }
+
+    fn finished(&self, at: &RunProgress<'_>, converged: bool) {
+        if self.lines.is_some() {
+            let how = if converged { "converged" } else { "stopped" };
+            self.say(format!("{} ({how})", self.where_at(at)));
+        }
+    }
 }
 
 /// `--shard I/N` or `--shard auto`.
@@ -51,9 +144,10 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
         .progress_chars("=> "),
     );
     bar.set_message(exp.name.clone());
-    let progress = |done: usize, total: usize| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
+    let progress = Reporter {
+        bar,
+        name: exp.name.clone(),
+        lines: args.progress,
     };
     let report = pool.install(|| {
         run_experiment(
@@ -67,7 +161,7 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
             &progress,
         )
     })?;
-    bar.finish_and_clear();
+    progress.bar.finish_and_clear();
     if report.dropped_duplicates > 0 {
         eprintln!(
             "warning: {}: dropped {} duplicated rows",
