@@ -48,6 +48,25 @@ fn agrees_with_the_definition<S: Sight<glam::DVec2>>(name: &str, indexed: &S, pt
         exact.for_each_within(i, 2.0, &mut |k| near_b.push(k));
         near_a.sort_unstable();
         assert_eq!(near_a, near_b, "{name}: radius query");
+        // Radii at which robots sit exactly on the boundary (inclusive), none, and the
+        // co-location tolerance: the grid's filter on its stored coordinates must keep
+        // every robot the exact test keeps.
+        let on_boundary = (0..pts.len()).step_by(7).map(|k| pts[k].distance(pts[i]));
+        for radius in on_boundary.chain([0.0, v.eps_pos, 0.03]) {
+            let (mut a, mut b) = (vec![], vec![]);
+            indexed.for_each_within(i, radius, &mut |k| a.push(k));
+            exact.for_each_within(i, radius, &mut |k| b.push(k));
+            a.sort_unstable();
+            assert_eq!(a, b, "{name}: robots within {radius} of {i}");
+        }
+        let mut near = indexed.neighbours(i);
+        assert!(near.len() <= 32, "{name}: a few neighbours");
+        near.sort_unstable();
+        near.dedup();
+        assert!(
+            near.iter().all(|&k| k != i && k < pts.len()),
+            "{name}: neighbours"
+        );
         for radius in [0.5, 2.0, 7.0] {
             let mut a = vec![];
             indexed.for_each_beyond(i, radius, &mut |k| a.push(k));
@@ -422,10 +441,12 @@ fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
                 let sight = TickSight::over(&now, &index, v);
                 agrees_with_the_definition(&format!("{name} seed {seed} at {f}"), &sight, &now);
             }
-            // The robots arrived: each a point again (where its move ended).
-            let now = at(1.0);
+            // The robots arrived: each a point again, exactly where its move ended (as
+            // the engine settles it, not where the interpolation at the last tick puts it).
+            let mut now = at(1.0);
             for &(k, _, to) in &moves {
                 index.follow(k, to, 0.0);
+                now[k] = to;
             }
             let sight = TickSight::over(&now, &index, v);
             agrees_with_the_definition(&format!("{name} seed {seed} arrived"), &sight, &now);

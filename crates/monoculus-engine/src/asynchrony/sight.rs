@@ -214,7 +214,6 @@ impl<P: IndexPoint> LookSight<P> {
         let n = settled.len();
         let stale_limit = stale_limit(n);
         let limit = LIMIT * index.cell_size();
-        index.allow(limit);
         let last = if rate * DRIFT_COST * LIMIT >= n as f64 {
             tick
         } else {
@@ -243,7 +242,9 @@ impl<P: IndexPoint> LookSight<P> {
                 *passing.select_nth_unstable(allowed).1
             }
         };
-        // An index for this tick only holds every robot at its point.
+        // An index for this tick only holds every robot at its point (none may leave
+        // it, so that `alone` tells robots apart within `eps_pos`).
+        index.allow(if last > tick { limit } else { 0.0 });
         if last > tick {
             for &(k, m) in self.movers.iter() {
                 let (centre, reach) = m.disc(settled[k as usize], tick, last);

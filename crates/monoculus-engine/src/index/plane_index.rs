@@ -52,6 +52,9 @@ fn disc_may_reach(centre: DVec2, reach: f64, p: DVec2, radius: f64) -> bool {
     d <= radius + reach * (1.0 + 1e-9) + 1e-12 * d
 }
 
+/// The most robots [`SpatialIndex::neighbours`] lists.
+const NEIGHBOURS: usize = 32;
+
 impl PlaneIndex {
     /// The grid, built over the positions of the first query if not yet (an index over
     /// moving robots is built when made).
@@ -349,15 +352,11 @@ impl SpatialIndex<DVec2> for PlaneIndex {
 
     fn neighbours<L: Locate<DVec2> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize> {
         let p = pos.at(i);
-        // About a dozen robots in the 2 x 3 cells around (pre-sized: grown one by one,
-        // the vector cost a tenth of a round).
-        let mut out = Vec::with_capacity(32);
+        // About a dozen robots in the 2 x 3 cells around, at most 32 where a dense core
+        // crowds them (pre-sized: grown one by one, the vector cost a tenth of a round).
+        let mut out = Vec::with_capacity(NEIGHBOURS);
         let grid = self.grid(pos);
-        grid.for_each_near(p.x, p.y, grid.cell_size(), &mut |k| {
-            if k != i {
-                out.push(k);
-            }
-        });
+        grid.near_few(p.x, p.y, grid.cell_size(), i, NEIGHBOURS, &mut out);
         // Robots are mostly decided in index order, each thread a run of them: the next
         // one's cells are asked for now (a hint, no effect on results).
         if i + 1 < grid.len() {

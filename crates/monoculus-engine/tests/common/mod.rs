@@ -34,8 +34,25 @@ pub fn zoo(seed: u64) -> Vec<(&'static str, Vec<DVec2>)> {
             rays.push(dir * k as f64 * 0.7);
         }
     }
+    // A converging swarm's late shape: a dense core, every robot of it in one cell,
+    // some co-located, and a few stragglers far out.
+    let mut core: Vec<DVec2> = square(150, 0.1, seed)
+        .into_iter()
+        .map(|p| p + DVec2::splat(5.0))
+        .collect();
+    core.extend_from_slice(&core.clone()[..4]);
+    for (x, y) in [
+        (-15.0, -15.0),
+        (25.0, -15.0),
+        (25.0, 25.0),
+        (-15.0, 25.0),
+        (5.0, 25.0),
+    ] {
+        core.push(DVec2::new(x, y));
+    }
     vec![
         ("random", square(120, 10.0, seed)),
+        ("core", core),
         (
             "lattice",
             generate(&InitShape::Lattice { side: 6.0 }, 49, seed),

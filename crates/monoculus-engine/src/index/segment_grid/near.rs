@@ -33,11 +33,41 @@ impl SegmentGrid {
         }
     }
 
+    /// Appends to `out` up to `most` robots other than `skip` whose cell meets the
+    /// square of half-side `radius` around `(x, y)`, those of the band through `(x, y)`
+    /// first: a few neighbours, however crowded the cells.
+    pub fn near_few(
+        &self,
+        x: f64,
+        y: f64,
+        radius: f64,
+        skip: usize,
+        most: usize,
+        out: &mut Vec<usize>,
+    ) {
+        let g = &self.rows;
+        let (low, mid, high) = (g.band(y - radius), g.band(y), g.band(y + radius));
+        let bands = std::iter::once(mid).chain(low..mid).chain(mid + 1..=high);
+        for r in bands {
+            for s in g.slice(r, x - radius, x + radius) {
+                if out.len() >= most {
+                    return;
+                }
+                let k = g.items[s] as usize;
+                if k != skip {
+                    out.push(k);
+                }
+            }
+        }
+    }
+
     /// Calls `f` with every robot that may lie within `radius` of `(x, y)`, every robot
-    /// being within `drift` of the point the grid was built over: the robots of the cells
-    /// meeting the square of half-side `radius + drift`; of a
-    /// [moving](SegmentGrid::moving) grid, only those whose disc comes within `radius`
-    /// (with room for the rounding of stored centres).
+    /// being within `drift` of the point the grid was built over: of the robots of the
+    /// cells meeting the square of half-side `radius + drift`, those whose stored point
+    /// is within `radius + drift` (of a [moving](SegmentGrid::moving) grid: whose disc
+    /// comes within `radius`), with room for the rounding of stored coordinates. The
+    /// test reads the cells' own coordinates, so that a crowded cell costs no read of
+    /// the robots' positions beyond the few that pass.
     pub fn for_each_reaching(
         &self,
         x: f64,
@@ -48,7 +78,7 @@ impl SegmentGrid {
     ) {
         let g = &self.rows;
         let wide = radius + drift;
-        if g.reach.is_empty() {
+        if !self.single || !wide.is_finite() {
             return self.for_each_near(x, y, wide, f);
         }
         let extent = self.lo[0].abs() + self.lo[1].abs() + x.abs() + y.abs();
@@ -56,13 +86,25 @@ impl SegmentGrid {
             + 16.0 * f64::EPSILON * extent
             + 1e-9 * radius;
         let (rx, ry) = (x - self.lo[0], y - self.lo[1]);
+        let near = |s: usize, reach: f64| {
+            let [u, v] = g.coords[s].map(f64::from);
+            let within = radius + reach + room;
+            let (du, dv) = (u - rx, v - ry);
+            du * du + dv * dv <= within * within
+        };
         for r in g.band(y - wide)..=g.band(y + wide) {
-            for s in g.slice(r, x - wide, x + wide) {
-                let [u, v] = g.coords[s].map(f64::from);
-                let within = radius + f64::from(g.reach[s]) + room;
-                let (du, dv) = (u - rx, v - ry);
-                if du * du + dv * dv <= within * within {
-                    f(g.items[s] as usize);
+            let slice = g.slice(r, x - wide, x + wide);
+            if g.reach.is_empty() {
+                for s in slice {
+                    if near(s, drift) {
+                        f(g.items[s] as usize);
+                    }
+                }
+            } else {
+                for s in slice {
+                    if near(s, f64::from(g.reach[s])) {
+                        f(g.items[s] as usize);
+                    }
                 }
             }
         }
