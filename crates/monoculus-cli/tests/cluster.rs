@@ -556,6 +556,8 @@ fn slurm_scripts_run_the_shards_and_the_merge() {
         "--qos=low",
         "--set",
         "seeds=5",
+        "--progress",
+        "300",
     ]);
     assert!(printed.contains("sbatch --parsable"), "{printed}");
     assert!(printed.contains("--dependency=afterok:"), "{printed}");
@@ -570,6 +572,7 @@ fn slurm_scripts_run_the_shards_and_the_merge() {
         "#SBATCH --qos=low",
         "--shard \"${SLURM_ARRAY_TASK_ID}/3\"",
         "--set seeds=5",
+        "--progress 300",
     ] {
         assert!(array.contains(line), "{line} not in {array}");
     }
@@ -760,6 +763,26 @@ fn slurm_stress_writes_the_stress_array() {
     );
     assert_eq!(code, 2, "{e}");
     assert!(e.contains("--stress options"), "{e}");
+    let (code, _, e) = output(
+        &[
+            "slurm",
+            "--stress",
+            "--shards",
+            "2",
+            "--out",
+            s(&out),
+            "--progress",
+            "60",
+            "--",
+            "--n",
+            "100",
+            "--rounds",
+            "1",
+        ],
+        &[],
+    );
+    assert_eq!(code, 2, "{e}");
+    assert!(e.contains("--progress"), "{e}");
 }
 
 #[test]

@@ -32,7 +32,7 @@ pub struct RunArgs {
     progress: Option<Duration>,
 }
 
-fn parse_seconds(s: &str) -> Result<Duration, String> {
+pub(super) fn parse_seconds(s: &str) -> Result<Duration, String> {
     match s.trim().parse::<f64>() {
         Ok(x) if x.is_finite() && x > 0.0 && x <= 1e9 => Ok(Duration::from_secs_f64(x)),
         _ => Err(format!("`{s}` is not a positive number of seconds")),

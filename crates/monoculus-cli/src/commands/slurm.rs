@@ -51,6 +51,10 @@ pub struct SlurmArgs {
     /// Submit both jobs (sbatch) and print their ids.
     #[arg(long)]
     submit: bool,
+    /// Each task prints a progress line per running run to its log at most every
+    /// SECONDS (`monoculus run --progress`). Not with --stress.
+    #[arg(long, value_name = "SECONDS", value_parser = super::run::parse_seconds)]
+    progress: Option<std::time::Duration>,
     /// A stress sweep instead: the `monoculus stress` options after `--`, e.g.
     /// `--stress -- --n 100000,1000000 --threads 1,2 --rounds 5`.
     #[arg(long)]
@@ -217,6 +221,11 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
                 "--stress: takes no config; give the stress options after `--`".into(),
             ));
         }
+        if args.progress.is_some() {
+            return Err(Failure::Input(
+                "--progress: for experiments only (stress prints each measurement)".into(),
+            ));
+        }
         StressOnly::try_parse_from(
             std::iter::once("monoculus stress".to_string()).chain(args.stress_args.iter().cloned()),
         )
@@ -296,6 +305,9 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
             task.extend(["--set".into(), s.clone()]);
         }
         task.extend(["--out".into(), out.display().to_string()]);
+        if let Some(every) = args.progress {
+            task.extend(["--progress".into(), every.as_secs_f64().to_string()]);
+        }
         let merge = vec!["merge".into(), out.display().to_string()];
         (
             task,
