@@ -153,6 +153,24 @@ fn progress_lines_report_each_run_without_changing_results() {
         stderr.lines().count() > ends.len() && stderr.contains(": round 1, diameter "),
         "{stderr}"
     );
+    // Under ASYNC a run counts epochs.
+    let c = tmp.path().join("c");
+    let out = run(&[
+        "run",
+        cfg.to_str().unwrap(),
+        "--out",
+        c.to_str().unwrap(),
+        "--set",
+        "scheduler.kind=async",
+        "--progress",
+        "0.000001",
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains(": epoch 1, diameter ") && !stderr.contains(": round "),
+        "{stderr}"
+    );
     for bad in ["0", "-1", "soon", "inf"] {
         let flag = format!("--progress={bad}");
         let e = run(&["run", cfg.to_str().unwrap(), &flag]);

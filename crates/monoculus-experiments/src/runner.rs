@@ -7,10 +7,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use glam::{DVec2, DVec3};
-use monoculus_engine::{EngineError, IndexPoint, RunOutcome, SchedulerSpec, Simulation};
+use monoculus_engine::{EngineError, IndexPoint, RunOutcome, Simulation};
 use rayon::prelude::*;
 
-use crate::config::{Cell, Experiment, RunId};
+use crate::config::{Cell, Experiment, RunId, SchedulerKind};
 use crate::results::{OpenSpec, ResultsDir, ResultsError, run_row};
 use crate::shard::{Shard, shard_runs};
 
@@ -137,8 +137,8 @@ fn run_reported(
     let Some(every) = progress.interval() else {
         return run_one(cell, seed);
     };
-    let unit = match cell.sim_config(seed).scheduler {
-        SchedulerSpec::Async(_) => "epoch",
+    let unit = match cell.spec.scheduler.kind {
+        SchedulerKind::Async => "epoch",
         _ => "round",
     };
     let start = Instant::now();
