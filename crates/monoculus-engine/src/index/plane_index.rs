@@ -356,7 +356,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         // crowds them (pre-sized: grown one by one, the vector cost a tenth of a round).
         let mut out = Vec::with_capacity(NEIGHBOURS);
         let grid = self.grid(pos);
-        grid.near_few(p.x, p.y, grid.cell_size(), i, NEIGHBOURS, &mut out);
+        grid.near_few(p.x, p.y, i, NEIGHBOURS, &mut out);
         // Robots are mostly decided in index order, each thread a run of them: the next
         // one's cells are asked for now (a hint, no effect on results).
         if i + 1 < grid.len() {

@@ -12,15 +12,38 @@ use super::slots::slot;
 pub(super) const BAND: f64 = 2.0;
 pub(super) const CELL: f64 = 1.0;
 
-/// Robots bucketed in bands across one axis, each band cut into cells along the other
-/// (the run axis), in compressed rows: cell `c` of band `r` holds
-/// `items[start[k]..start[k + 1]]` with `k = r * cells + c`, ascending robot indices, so
-/// consecutive cells of one band are one slice.
-pub(super) struct Bands {
-    /// The axis a band runs along (0: x, 1: y); bands are stacked along the other.
-    pub(super) run: usize,
-    /// The smallest coordinate on the run axis and across it.
+/// A box of the plane and the size of its cells: a [`Bands`] layout holds one part per
+/// level, the robots of a level's box (but those of the next, nested one) in its cells.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Level {
+    /// The box's lower corner, (x, y).
+    pub(super) lo: [f64; 2],
+    /// Its upper corner.
+    pub(super) hi: [f64; 2],
+    /// The mean spacing its cells are made for.
+    pub(super) spacing: f64,
+}
+
+impl Level {
+    /// Whether `p` lies in the box (boundary included).
+    pub(super) fn holds<P: Point>(&self, p: &P) -> bool {
+        self.holds_xy(p.axis(0), p.axis(1))
+    }
+
+    /// Whether `(x, y)` lies in the box (boundary included).
+    pub(super) fn holds_xy(&self, x: f64, y: f64) -> bool {
+        (self.lo[0] <= x) & (x <= self.hi[0]) & (self.lo[1] <= y) & (y <= self.hi[1])
+    }
+}
+
+/// One part of a layout: a box cut into bands across the run axis, each cut into cells
+/// along it, its cells numbered from `offset` in the layout's `start`.
+#[derive(Debug)]
+pub(super) struct Part {
+    /// The box's smallest coordinate on the run axis and across it.
     pub(super) origin: [f64; 2],
+    /// The box's largest coordinate on the run axis and across it.
+    pub(super) top: [f64; 2],
     pub(super) inv_width: f64,
     pub(super) height: f64,
     pub(super) inv_height: f64,
@@ -28,6 +51,81 @@ pub(super) struct Bands {
     pub(super) bands: usize,
     /// The last cell and band, as floats.
     pub(super) last: [f64; 2],
+    /// The number in `start` of the part's first cell.
+    pub(super) offset: usize,
+    /// The mean spacing its cells are made for.
+    pub(super) spacing: f64,
+}
+
+impl Part {
+    fn new(level: &Level, run: usize, offset: usize) -> Self {
+        let across = 1 - run;
+        let (lo, hi, spacing) = (level.lo, level.hi, level.spacing);
+        let (width, height) = (CELL * spacing, BAND * spacing);
+        let cells = ((hi[run] - lo[run]) / width) as usize + 1;
+        let bands = ((hi[across] - lo[across]) / height) as usize + 1;
+        Part {
+            origin: [lo[run], lo[across]],
+            top: [hi[run], hi[across]],
+            inv_width: 1.0 / width,
+            height,
+            inv_height: 1.0 / height,
+            cells,
+            bands,
+            last: [(cells - 1) as f64, (bands - 1) as f64],
+            offset,
+            spacing,
+        }
+    }
+
+    /// The cell (along the run axis) of coordinate `v`, clamped to the part.
+    #[inline]
+    pub(super) fn cell(&self, v: f64) -> usize {
+        slot(v, self.origin[0], self.inv_width, self.last[0])
+    }
+
+    /// The band of coordinate `v` across the run axis, clamped to the part.
+    #[inline]
+    pub(super) fn band(&self, v: f64) -> usize {
+        slot(v, self.origin[1], self.inv_height, self.last[1])
+    }
+
+    /// The number in `start` of the first cell of band `r`.
+    #[inline]
+    pub(super) fn row(&self, r: usize) -> usize {
+        self.offset + r * self.cells
+    }
+
+    /// The lower edge of cell `c` on the run axis and of band `r` across it.
+    #[inline]
+    pub(super) fn corner(&self, c: usize, r: usize) -> (f64, f64) {
+        (
+            self.origin[0] + c as f64 / self.inv_width,
+            self.origin[1] + r as f64 * self.height,
+        )
+    }
+
+    /// Whether the box `[a0, a1] x [b0, b1]` (run axis, across) meets the part's box
+    /// (`true` when unsure: a NaN bound).
+    #[inline]
+    pub(super) fn meets(&self, a0: f64, a1: f64, b0: f64, b1: f64) -> bool {
+        !((a1 < self.origin[0]) | (a0 > self.top[0]) | (b1 < self.origin[1]) | (b0 > self.top[1]))
+    }
+}
+
+/// Robots bucketed in bands across one axis, each band cut into cells along the other
+/// (the run axis), in compressed rows: cell `c` of band `r` of a part holds
+/// `items[start[k]..start[k + 1]]` with `k = part.row(r) + c`, ascending robot indices,
+/// so consecutive cells of one band are one slice.
+///
+/// The first part covers the swarm's box. A crowded swarm has more, each over a box
+/// nested in the one before with cells of its own, finer size; a robot is held in the
+/// innermost part whose box holds it. A query asks every part whose box it meets.
+pub(super) struct Bands {
+    /// The axis a band runs along (0: x, 1: y); bands are stacked along the other.
+    pub(super) run: usize,
+    /// The parts, outermost first.
+    pub(super) parts: Vec<Part>,
     pub(super) start: Vec<u32>,
     pub(super) items: Vec<u32>,
     /// Where each robot is in `items`: `items[place[k]] == k`.
@@ -44,28 +142,21 @@ pub(super) struct Bands {
 }
 
 impl Bands {
-    /// `lo` and `hi` in (x, y) order.
-    pub(super) fn new<P: Point>(
-        points: &[P],
-        run: usize,
-        lo: [f64; 2],
-        hi: [f64; 2],
-        spacing: f64,
-    ) -> Self {
-        let across = 1 - run;
-        let (width, height) = (CELL * spacing, BAND * spacing);
-        let cells = ((hi[run] - lo[run]) / width) as usize + 1;
-        let bands = ((hi[across] - lo[across]) / height) as usize + 1;
+    /// A layout with a part per level (the first over the box of every point, each next
+    /// one nested in the one before); `lo` (x, y) is the swarm's lower corner, origin
+    /// of the stored coordinates.
+    pub(super) fn new<P: Point>(points: &[P], run: usize, levels: &[Level], lo: [f64; 2]) -> Self {
+        let mut parts = Vec::with_capacity(levels.len());
+        let mut total = 0;
+        for level in levels {
+            let part = Part::new(level, run, total);
+            total += part.cells * part.bands;
+            parts.push(part);
+        }
         let mut grid = Bands {
             run,
-            origin: [lo[run], lo[across]],
-            inv_width: 1.0 / width,
-            height,
-            inv_height: 1.0 / height,
-            cells,
-            bands,
-            last: [(cells - 1) as f64, (bands - 1) as f64],
-            start: vec![0; cells * bands + 1],
+            parts,
+            start: vec![0; total + 1],
             // Padded like `coords`, with no robot.
             items: vec![u32::MAX; points.len() + LANES],
             place: vec![0; points.len()],
@@ -73,11 +164,17 @@ impl Bands {
             coords: vec![[f32::NAN; 2]; points.len() + LANES],
             reach: Vec::new(),
         };
+        let across = 1 - run;
         let slot: Vec<u32> = points
             .iter()
             .map(|p| {
-                let (c, r) = (grid.cell(p.axis(run)), grid.band(p.axis(across)));
-                (r * cells + c) as u32
+                let level = levels[1..]
+                    .iter()
+                    .rposition(|l| l.holds(p))
+                    .map_or(0, |k| k + 1);
+                let part = &grid.parts[level];
+                let (c, r) = (part.cell(p.axis(run)), part.band(p.axis(across)));
+                (part.row(r) + c) as u32
             })
             .collect();
         // A counting sort with no second array of cells (a grid can have 16n of them):
@@ -87,11 +184,11 @@ impl Bands {
             grid.start[k as usize] += 1;
         }
         let mut end = 0;
-        for c in &mut grid.start[..cells * bands] {
+        for c in &mut grid.start[..total] {
             end += *c;
             *c = end;
         }
-        grid.start[cells * bands] = end;
+        grid.start[total] = end;
         for (i, &k) in slot.iter().enumerate().rev() {
             grid.start[k as usize] -= 1;
             let at = grid.start[k as usize] as usize;
@@ -105,39 +202,25 @@ impl Bands {
         grid
     }
 
-    /// The cell (along the run axis) of coordinate `v`, clamped to the grid.
+    /// The robots of band `r` of `part` in cells `c0..=c1`: indices into `items` and
+    /// `coords`.
     #[inline]
-    pub(super) fn cell(&self, v: f64) -> usize {
-        slot(v, self.origin[0], self.inv_width, self.last[0])
-    }
-
-    /// The band of coordinate `v` across the run axis, clamped to the grid.
-    #[inline]
-    pub(super) fn band(&self, v: f64) -> usize {
-        slot(v, self.origin[1], self.inv_height, self.last[1])
-    }
-
-    /// The robots of band `r` in cells `c0..=c1`: indices into `items` and `coords`.
-    #[inline]
-    pub(super) fn cells_range(&self, r: usize, c0: usize, c1: usize) -> std::ops::Range<usize> {
-        let row = r * self.cells;
+    pub(super) fn cells_range(
+        &self,
+        part: &Part,
+        r: usize,
+        c0: usize,
+        c1: usize,
+    ) -> std::ops::Range<usize> {
+        let row = part.row(r);
         self.start[row + c0] as usize..self.start[row + c1 + 1] as usize
     }
 
-    /// The lower edge of cell `c` on the run axis and of band `r` across it.
+    /// The robots of band `r` of `part` in the cells meeting `[lo, hi]` on the run axis:
+    /// indices into `items` and `coords`.
     #[inline]
-    pub(super) fn corner(&self, c: usize, r: usize) -> (f64, f64) {
-        (
-            self.origin[0] + c as f64 / self.inv_width,
-            self.origin[1] + r as f64 * self.height,
-        )
-    }
-
-    /// The robots of band `r` in the cells meeting `[lo, hi]` on the run axis: indices
-    /// into `items` and `coords`.
-    #[inline]
-    pub(super) fn slice(&self, r: usize, lo: f64, hi: f64) -> std::ops::Range<usize> {
-        let row = r * self.cells;
-        self.start[row + self.cell(lo)] as usize..self.start[row + self.cell(hi) + 1] as usize
+    pub(super) fn slice(&self, part: &Part, r: usize, lo: f64, hi: f64) -> std::ops::Range<usize> {
+        let row = part.row(r);
+        self.start[row + part.cell(lo)] as usize..self.start[row + part.cell(hi) + 1] as usize
     }
 }

@@ -6,8 +6,9 @@ use super::super::Locate;
 use super::SegmentGrid;
 
 impl SegmentGrid {
-    /// Calls `f` with every robot farther than `radius` from robot `i`: per band, the
-    /// cells wholly within the disc are skipped. O(bands + robots beyond + boundary).
+    /// Calls `f` with every robot farther than `radius` from robot `i`: per band of each
+    /// part, the cells wholly within the disc are skipped. O(bands + robots beyond +
+    /// boundary).
     /// Every robot is within `drift` of the point the grid was built over.
     pub fn for_each_beyond<P: Point, L: Locate<P> + ?Sized>(
         &self,
@@ -20,8 +21,6 @@ impl SegmentGrid {
         let p = positions.at(i);
         let (x, y) = (p.axis(0), p.axis(1));
         let g = &self.rows;
-        // Room for the rounding of cell edges and of robots' cells.
-        let room = 1e-9 * (x.abs() + y.abs() + self.spacing);
         // A robot whose grid point is within `inside` of p is within `radius` of it.
         let inside = radius - drift;
         let mut emit = |range: std::ops::Range<usize>| {
@@ -32,26 +31,31 @@ impl SegmentGrid {
                 }
             }
         };
-        for r in 0..g.bands {
-            let (_, y0) = g.corner(0, r);
-            let dy = (y - y0).abs().max((y0 + g.height - y).abs()) + room;
-            // The band's robots within `inner` of x on the run axis are within the disc.
-            let inner = if dy < inside {
-                (inside * inside - dy * dy).sqrt() * (1.0 - 1e-9) - room
-            } else {
-                -1.0
-            };
-            let last = g.cells - 1;
-            if inner <= 0.0 {
-                emit(g.cells_range(r, 0, last));
-                continue;
-            }
-            let (ca, cb) = (g.cell(x - inner), g.cell(x + inner));
-            if cb <= ca + 1 {
-                emit(g.cells_range(r, 0, last));
-            } else {
-                emit(g.cells_range(r, 0, ca));
-                emit(g.cells_range(r, cb, last));
+        for part in &g.parts {
+            // Room for the rounding of cell edges and of robots' cells.
+            let room = 1e-9 * (x.abs() + y.abs() + part.spacing);
+            for r in 0..part.bands {
+                let (_, y0) = part.corner(0, r);
+                let dy = (y - y0).abs().max((y0 + part.height - y).abs()) + room;
+                // The band's robots within `inner` of x on the run axis are within the
+                // disc.
+                let inner = if dy < inside {
+                    (inside * inside - dy * dy).sqrt() * (1.0 - 1e-9) - room
+                } else {
+                    -1.0
+                };
+                let last = part.cells - 1;
+                if inner <= 0.0 {
+                    emit(g.cells_range(part, r, 0, last));
+                    continue;
+                }
+                let (ca, cb) = (part.cell(x - inner), part.cell(x + inner));
+                if cb <= ca + 1 {
+                    emit(g.cells_range(part, r, 0, last));
+                } else {
+                    emit(g.cells_range(part, r, 0, ca));
+                    emit(g.cells_range(part, r, cb, last));
+                }
             }
         }
     }

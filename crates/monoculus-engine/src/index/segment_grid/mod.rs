@@ -32,7 +32,7 @@ mod walk;
 
 use monoculus_core::geometry::Point;
 
-use bands::{BAND, Bands, CELL};
+use bands::{BAND, Bands, CELL, Level};
 pub(crate) use prefetch::prefetch;
 pub use stale::Stale;
 
@@ -49,6 +49,7 @@ pub struct SegmentGrid {
     rows: Bands,
     /// Vertical bands (running along y): lines of sight with |dy| > |dx|.
     columns: Bands,
+    /// The side of the smallest cells.
     spacing: f64,
     /// The lower corner of the swarm, origin of the stored coordinates.
     lo: [f64; 2],
@@ -100,7 +101,8 @@ impl SegmentGrid {
             .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);
-        Self::with_spacing(points, spacing, lo, hi, parallel)
+        let levels = levels(points, Level { lo, hi, spacing });
+        Self::with_levels(points, &levels, parallel)
     }
 
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
@@ -138,6 +140,7 @@ impl SegmentGrid {
     }
 
     /// A grid over `points` in the box `[lo, hi]` (theirs) with cells `spacing` wide.
+    #[cfg(test)]
     fn with_spacing<P: Point + Sync>(
         points: &[P],
         spacing: f64,
@@ -145,8 +148,14 @@ impl SegmentGrid {
         hi: [f64; 2],
         parallel: bool,
     ) -> Self {
+        Self::with_levels(points, &[Level { lo, hi, spacing }], parallel)
+    }
+
+    /// A grid over `points` with a part per level, the first over their box.
+    fn with_levels<P: Point + Sync>(points: &[P], levels: &[Level], parallel: bool) -> Self {
+        let Level { lo, hi, .. } = levels[0];
         let longest = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-        let layout = |run| Bands::new(points, run, lo, hi, spacing);
+        let layout = |run| Bands::new(points, run, levels, lo);
         let (rows, columns) = if parallel {
             rayon::join(|| layout(0), || layout(1))
         } else {
@@ -155,7 +164,10 @@ impl SegmentGrid {
         SegmentGrid {
             rows,
             columns,
-            spacing,
+            spacing: levels
+                .iter()
+                .map(|l| l.spacing)
+                .fold(f64::INFINITY, f64::min),
             lo,
             hi,
             // A relative coordinate r is stored as r(1 + e) with |e| <= 2^-24; the
@@ -182,9 +194,15 @@ impl SegmentGrid {
         self.len() == 0
     }
 
-    /// The mean spacing between robots (the side of a cell).
+    /// The side of the grid's smallest cells (the mean spacing between robots where
+    /// they are densest).
     pub fn cell_size(&self) -> f64 {
         self.spacing
+    }
+
+    /// The number of parts of each layout (1 unless the swarm is crowded).
+    pub fn parts(&self) -> usize {
+        self.rows.parts.len()
     }
 }
 
@@ -204,4 +222,77 @@ fn quartile_box_area<P: Point>(points: &[P]) -> f64 {
         area *= x3 - x1;
     }
     area
+}
+
+/// At most this many parts to a layout.
+const MOST_LEVELS: usize = 4;
+/// A nested part is made for a box whose robots would be at least this many times as
+/// dense as the cells of the part around it are made for...
+const CROWDED: f64 = 16.0;
+/// ...and that holds at least this many robots.
+const FEWEST_NESTED: f64 = 64.0;
+
+/// The levels of a grid's parts, the first given (the swarm's box). Where the robots
+/// of the box between the tenth and ninetieth percentiles of each coordinate (of the
+/// robots of the last box) are [`CROWDED`] times as dense as its cells are made for,
+/// that box becomes the next level, its cells sized for its own robots; and so on, up
+/// to [`MOST_LEVELS`]. A converging swarm packs most robots in a core a few units
+/// across while stragglers hold its box wide: cells sized for the box would hold
+/// hundreds of robots each. Estimated from at most 4096 robots (evenly strided: a
+/// function of the positions).
+fn levels<P: Point>(points: &[P], first: Level) -> Vec<Level> {
+    let mut levels = vec![first];
+    let stride = points.len().div_ceil(4096).max(1);
+    let mut sample: Vec<[f64; 2]> = points
+        .iter()
+        .step_by(stride)
+        .map(|p| [p.axis(0), p.axis(1)])
+        .filter(|&[x, y]| first.holds_xy(x, y))
+        .collect();
+    // Robots per sampled one.
+    let per = points.len() as f64 / points.len().div_ceil(stride).max(1) as f64;
+    let mut outer = None;
+    while levels.len() < MOST_LEVELS && sample.len() >= 10 {
+        let mut lo = [0.0; 2];
+        let mut hi = [0.0; 2];
+        for a in 0..2 {
+            let mut v: Vec<f64> = sample.iter().map(|p| p[a]).collect();
+            let (q1, q9) = (v.len() / 10, v.len() - 1 - v.len() / 10);
+            hi[a] = *v.select_nth_unstable_by(q9, f64::total_cmp).1;
+            lo[a] = *v[..q9].select_nth_unstable_by(q1, f64::total_cmp).1;
+        }
+        let level = Level {
+            lo,
+            hi,
+            spacing: 0.0,
+        };
+        let inside: Vec<[f64; 2]> = sample
+            .iter()
+            .copied()
+            .filter(|&[x, y]| level.holds_xy(x, y))
+            .collect();
+        let m = inside.len() as f64 * per;
+        let ext = [hi[0] - lo[0], hi[1] - lo[1]];
+        let longest = ext[0].max(ext[1]);
+        let spacing = (ext[0] * ext[1] / m)
+            .sqrt()
+            .max(longest / (2.0 * m.sqrt()))
+            .max(longest * 1e-9)
+            .max(1e-300);
+        let around = levels.last().expect("the first level").spacing;
+        // (A NaN spacing is no crowding.)
+        let crowded = (spacing * spacing * CROWDED).partial_cmp(&(around * around));
+        if m < FEWEST_NESTED || crowded.is_none_or(|o| o.is_gt()) {
+            break;
+        }
+        levels.push(Level { spacing, ..level });
+        outer.get_or_insert((sample.len() - inside.len()) as f64 * per);
+        sample = inside;
+    }
+    // The first part then holds only the robots outside the second: cells for as many.
+    if let Some(m) = outer {
+        let longest = (first.hi[0] - first.lo[0]).max(first.hi[1] - first.lo[1]);
+        levels[0].spacing = first.spacing.max(longest / (2.0 * m.max(1.0).sqrt()));
+    }
+    levels
 }

@@ -1,7 +1,8 @@
 //! Radius queries: the robots near a point, whether a robot is isolated, and the hints
-//! that fetch their cells ahead.
+//! that fetch their cells ahead. Each asks the parts whose boxes meet its square.
 
 use super::SegmentGrid;
+use super::bands::Part;
 use super::prefetch::prefetch;
 
 impl SegmentGrid {
@@ -11,14 +12,28 @@ impl SegmentGrid {
         prefetch(&self.rows.place[k]);
     }
 
+    /// The parts of the rows' layout whose boxes meet the square of half-side `radius`
+    /// around `(x, y)` (the first always: its box is every robot's).
+    #[inline]
+    fn parts_near(&self, x: f64, y: f64, radius: f64) -> impl Iterator<Item = &Part> {
+        let parts = &self.rows.parts;
+        parts[..1].iter().chain(
+            parts[1..]
+                .iter()
+                .filter(move |p| p.meets(x - radius, x + radius, y - radius, y + radius)),
+        )
+    }
+
     /// Asks for the cell bounds [`SegmentGrid::for_each_near`] reads first around
     /// `(x, y)` within `radius` (a hint).
     #[inline]
     pub fn prefetch_near(&self, x: f64, y: f64, radius: f64) {
         let g = &self.rows;
-        let c = g.cell(x - radius);
-        for r in g.band(y - radius)..=g.band(y + radius) {
-            prefetch(&g.start[r * g.cells + c]);
+        for part in self.parts_near(x, y, radius) {
+            let c = part.cell(x - radius);
+            for r in part.band(y - radius)..=part.band(y + radius) {
+                prefetch(&g.start[part.row(r) + c]);
+            }
         }
     }
 
@@ -26,36 +41,37 @@ impl SegmentGrid {
     /// around `(x, y)` (a superset of the robots within `radius`).
     pub fn for_each_near(&self, x: f64, y: f64, radius: f64, f: &mut dyn FnMut(usize)) {
         let g = &self.rows;
-        for r in g.band(y - radius)..=g.band(y + radius) {
-            for s in g.slice(r, x - radius, x + radius) {
-                f(g.items[s] as usize);
+        for part in self.parts_near(x, y, radius) {
+            for r in part.band(y - radius)..=part.band(y + radius) {
+                for s in g.slice(part, r, x - radius, x + radius) {
+                    f(g.items[s] as usize);
+                }
             }
         }
     }
 
     /// Appends to `out` up to `most` robots other than `skip` whose cell meets the
-    /// square of half-side `radius` around `(x, y)`, those of the band through `(x, y)`
-    /// first: a few neighbours, however crowded the cells.
-    pub fn near_few(
-        &self,
-        x: f64,
-        y: f64,
-        radius: f64,
-        skip: usize,
-        most: usize,
-        out: &mut Vec<usize>,
-    ) {
+    /// square around `(x, y)` of half-side the spacing its part's cells are made for:
+    /// a few neighbours, however crowded the cells. The innermost part first, and in
+    /// each the band through `(x, y)` first.
+    pub fn near_few(&self, x: f64, y: f64, skip: usize, most: usize, out: &mut Vec<usize>) {
         let g = &self.rows;
-        let (low, mid, high) = (g.band(y - radius), g.band(y), g.band(y + radius));
-        let bands = std::iter::once(mid).chain(low..mid).chain(mid + 1..=high);
-        for r in bands {
-            for s in g.slice(r, x - radius, x + radius) {
-                if out.len() >= most {
-                    return;
-                }
-                let k = g.items[s] as usize;
-                if k != skip {
-                    out.push(k);
+        for part in g.parts.iter().rev() {
+            let radius = part.spacing;
+            if !part.meets(x - radius, x + radius, y - radius, y + radius) {
+                continue;
+            }
+            let (low, mid, high) = (part.band(y - radius), part.band(y), part.band(y + radius));
+            let bands = std::iter::once(mid).chain(low..mid).chain(mid + 1..=high);
+            for r in bands {
+                for s in g.slice(part, r, x - radius, x + radius) {
+                    if out.len() >= most {
+                        return;
+                    }
+                    let k = g.items[s] as usize;
+                    if k != skip {
+                        out.push(k);
+                    }
                 }
             }
         }
@@ -92,18 +108,20 @@ impl SegmentGrid {
             let (du, dv) = (u - rx, v - ry);
             du * du + dv * dv <= within * within
         };
-        for r in g.band(y - wide)..=g.band(y + wide) {
-            let slice = g.slice(r, x - wide, x + wide);
-            if g.reach.is_empty() {
-                for s in slice {
-                    if near(s, drift) {
-                        f(g.items[s] as usize);
+        for part in self.parts_near(x, y, wide) {
+            for r in part.band(y - wide)..=part.band(y + wide) {
+                let slice = g.slice(part, r, x - wide, x + wide);
+                if g.reach.is_empty() {
+                    for s in slice {
+                        if near(s, drift) {
+                            f(g.items[s] as usize);
+                        }
                     }
-                }
-            } else {
-                for s in slice {
-                    if near(s, f64::from(g.reach[s])) {
-                        f(g.items[s] as usize);
+                } else {
+                    for s in slice {
+                        if near(s, f64::from(g.reach[s])) {
+                            f(g.items[s] as usize);
+                        }
                     }
                 }
             }
@@ -113,7 +131,7 @@ impl SegmentGrid {
     /// Whether certainly no other robot lies within `radius` of robot `k`, where the
     /// grid was built: the robots of the cells near its stored point, tested on stored
     /// coordinates with room for their rounding. `false` when unsure (a radius not
-    /// below a cell's size, coordinates not finite in single precision).
+    /// below the smallest cells' size, coordinates not finite in single precision).
     pub fn isolated(&self, k: usize, radius: f64) -> bool {
         let g = &self.rows;
         // Two stored coordinates are each off by at most `rounding` plus the double
@@ -127,10 +145,12 @@ impl SegmentGrid {
         let s = g.place[k] as usize;
         let [x, y] = g.coords[s].map(f64::from);
         let (ax, ay) = (x + self.lo[0], y + self.lo[1]);
-        (g.band(ay - reach)..=g.band(ay + reach)).all(|r| {
-            g.slice(r, ax - reach, ax + reach).all(|t| {
-                let [u, v] = g.coords[t].map(f64::from);
-                t == s || (u - x).abs() > reach || (v - y).abs() > reach
+        self.parts_near(ax, ay, reach).all(|part| {
+            (part.band(ay - reach)..=part.band(ay + reach)).all(|r| {
+                g.slice(part, r, ax - reach, ax + reach).all(|t| {
+                    let [u, v] = g.coords[t].map(f64::from);
+                    t == s || (u - x).abs() > reach || (v - y).abs() > reach
+                })
             })
         })
     }

@@ -3,15 +3,15 @@
 use monoculus_core::geometry::Point;
 
 use super::super::Locate;
-use super::bands::Bands;
+use super::bands::{Bands, Part};
 use super::{SegmentGrid, Stale};
 
 impl SegmentGrid {
     /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
-    /// around its cell, each robot given out once no unvisited cell can hold a nearer
-    /// one. O(k log k) for the first k. The `stale` robots are skipped in the cells
-    /// and queued at once from their current positions; every other robot is within
-    /// `drift` of the point the grid was built over.
+    /// around its cell in each part, each robot given out once no unvisited cell can
+    /// hold a nearer one. O(k log k) for the first k. The `stale` robots are skipped in
+    /// the cells and queued at once from their current positions; every other robot is
+    /// within `drift` of the point the grid was built over.
     pub fn nearest_first<'a, P: Point, L: Locate<P> + ?Sized>(
         &'a self,
         positions: &'a L,
@@ -31,10 +31,16 @@ impl SegmentGrid {
             positions,
             i,
             p,
-            cell: (g.cell(p.axis(0)), g.band(p.axis(1))),
-            ring: None,
-            reach: 0.0,
-            exhausted: false,
+            rings: g
+                .parts
+                .iter()
+                .map(|part| Rings {
+                    cell: (part.cell(p.axis(0)), part.band(p.axis(1))),
+                    ring: None,
+                    reach: 0.0,
+                    exhausted: false,
+                })
+                .collect(),
             heap,
             stale,
             drift,
@@ -48,14 +54,8 @@ pub(super) struct Nearest<'a, P: Point, L: ?Sized> {
     pub(super) positions: &'a L,
     pub(super) i: usize,
     pub(super) p: P,
-    /// The observer's cell and band.
-    pub(super) cell: (usize, usize),
-    /// The last ring of cells visited (`None` before the first).
-    pub(super) ring: Option<usize>,
-    /// Every robot nearer than this has been visited.
-    pub(super) reach: f64,
-    /// Whether every cell has been visited.
-    pub(super) exhausted: bool,
+    /// Per part, how far its rings have gone.
+    pub(super) rings: Vec<Rings>,
     /// Visited robots not yet given out: (distance bits, robot), nearest on top.
     pub(super) heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>>,
     /// Robots whose cells are out of date (queued from the start).
@@ -64,52 +64,64 @@ pub(super) struct Nearest<'a, P: Point, L: ?Sized> {
     pub(super) drift: f64,
 }
 
+/// The rings of cells visited in one part.
+pub(super) struct Rings {
+    /// The observer's cell and band (clamped to the part).
+    pub(super) cell: (usize, usize),
+    /// The last ring visited (`None` before the first).
+    pub(super) ring: Option<usize>,
+    /// Every robot of the part nearer than this has been visited.
+    pub(super) reach: f64,
+    /// Whether every cell of the part has been visited.
+    pub(super) exhausted: bool,
+}
+
 impl<P: Point, L: Locate<P> + ?Sized> Nearest<'_, P, L> {
-    /// Visits the next ring of cells; `false` if the grid is exhausted.
-    pub(super) fn expand(&mut self) -> bool {
+    /// Visits the next ring of cells of part `x`.
+    pub(super) fn expand(&mut self, x: usize) {
         let g = self.grid;
-        let (c, r) = self.cell;
-        if self.exhausted {
-            return false;
-        }
-        let k = self.ring.map_or(0, |k| k + 1);
-        let (c0, c1) = (c.saturating_sub(k), (c + k).min(g.cells - 1));
-        let (r0, r1) = (r.saturating_sub(k), (r + k).min(g.bands - 1));
-        self.ring = Some(k);
+        let part: &Part = &g.parts[x];
+        let rings = &mut self.rings[x];
+        let (c, r) = rings.cell;
+        let k = rings.ring.map_or(0, |k| k + 1);
+        let (c0, c1) = (c.saturating_sub(k), (c + k).min(part.cells - 1));
+        let (r0, r1) = (r.saturating_sub(k), (r + k).min(part.bands - 1));
+        rings.ring = Some(k);
+        let (i, p, positions, stale) = (self.i, self.p, self.positions, self.stale);
         let push = |range: std::ops::Range<usize>, heap: &mut std::collections::BinaryHeap<_>| {
             for s in range {
                 let j = g.items[s] as usize;
-                if j != self.i && !self.stale.contains(j) {
-                    let d = (self.positions.at(j) - self.p).length();
+                if j != i && !stale.contains(j) {
+                    let d = (positions.at(j) - p).length();
                     heap.push(std::cmp::Reverse((d.to_bits(), j)));
                 }
             }
         };
         for band in r0..=r1 {
             if k == 0 || band == r.wrapping_sub(k) || band == r + k {
-                push(g.cells_range(band, c0, c1), &mut self.heap);
+                push(g.cells_range(part, band, c0, c1), &mut self.heap);
             } else {
                 if c >= k {
-                    push(g.cells_range(band, c - k, c - k), &mut self.heap);
+                    push(g.cells_range(part, band, c - k, c - k), &mut self.heap);
                 }
-                if c + k < g.cells {
-                    push(g.cells_range(band, c + k, c + k), &mut self.heap);
+                if c + k < part.cells {
+                    push(g.cells_range(part, band, c + k, c + k), &mut self.heap);
                 }
             }
         }
         // Distance from the observer to the nearest unvisited cell (infinite past the
-        // grid's edge), less room for rounding.
+        // part's edge), less room for rounding. An observer outside a nested part's
+        // box is nearer its edge cells than any other: the bounds hold as well.
         let (x, y) = (self.p.axis(0), self.p.axis(1));
-        let (lo_x, lo_y) = g.corner(c.saturating_sub(k), r.saturating_sub(k));
-        let (hi_x, hi_y) = g.corner(c + k + 1, r + k + 1);
+        let (lo_x, lo_y) = part.corner(c.saturating_sub(k), r.saturating_sub(k));
+        let (hi_x, hi_y) = part.corner(c + k + 1, r + k + 1);
         let gap = |inside: bool, d: f64| if inside { d } else { f64::INFINITY };
         let reach = gap(c > k, x - lo_x)
-            .min(gap(c + k + 1 < g.cells, hi_x - x))
+            .min(gap(c + k + 1 < part.cells, hi_x - x))
             .min(gap(r > k, y - lo_y))
-            .min(gap(r + k + 1 < g.bands, hi_y - y));
-        self.exhausted = reach == f64::INFINITY;
-        self.reach = reach * (1.0 - 1e-9) - 1e-9 * (x.abs() + y.abs()) - self.drift;
-        true
+            .min(gap(r + k + 1 < part.bands, hi_y - y));
+        rings.exhausted = reach == f64::INFINITY;
+        rings.reach = reach * (1.0 - 1e-9) - 1e-9 * (x.abs() + y.abs()) - self.drift;
     }
 }
 
@@ -118,15 +130,23 @@ impl<P: Point, L: Locate<P> + ?Sized> Iterator for Nearest<'_, P, L> {
 
     fn next(&mut self) -> Option<usize> {
         loop {
+            // The part whose unvisited cells may hold the nearest robots.
+            let mut next: Option<(usize, f64)> = None;
+            for (x, rings) in self.rings.iter().enumerate() {
+                if !rings.exhausted && next.is_none_or(|(_, reach)| rings.reach < reach) {
+                    next = Some((x, rings.reach));
+                }
+            }
+            let Some((x, reach)) = next else {
+                return self.heap.pop().map(|std::cmp::Reverse((_, j))| j);
+            };
             if let Some(&std::cmp::Reverse((d, j))) = self.heap.peek()
-                && f64::from_bits(d) < self.reach
+                && f64::from_bits(d) < reach
             {
                 self.heap.pop();
                 return Some(j);
             }
-            if !self.expand() {
-                return self.heap.pop().map(|std::cmp::Reverse((_, j))| j);
-            }
+            self.expand(x);
         }
     }
 }

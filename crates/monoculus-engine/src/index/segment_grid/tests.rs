@@ -22,100 +22,245 @@ fn pinned_square(rng: &mut Stream) -> Vec<DVec2> {
     pts
 }
 
-/// Blockers at the edge of the blocking cone, on lines of every slope through a
-/// corner of the cells they are walked in (so a blocker sits across a band edge and
-/// a cell edge from where the line enters the band): the walk must find them all.
+/// `pinned_square` with a crowded core: 3000 more robots in a box of side 1.5 off its
+/// centre, so that the grid nests finer parts over it.
+fn crowded_square(rng: &mut Stream) -> Vec<DVec2> {
+    let mut pts = pinned_square(rng);
+    pts.extend(
+        (0..3000).map(|_| DVec2::new(12.0 + 1.5 * rng.uniform(), 5.0 + 1.5 * rng.uniform())),
+    );
+    pts
+}
+
+impl SegmentGrid {
+    /// The levels of the grid's parts.
+    fn levels(&self) -> Vec<Level> {
+        (self.rows.parts.iter())
+            .map(|p| Level {
+                lo: p.origin,
+                hi: p.top,
+                spacing: p.spacing,
+            })
+            .collect()
+    }
+}
+
+/// A grid over `pts` with the parts of `like` (whose box must hold `pts`).
+fn grid_like(like: &SegmentGrid, pts: &[DVec2]) -> SegmentGrid {
+    SegmentGrid::with_levels(pts, &like.levels(), false)
+}
+
 #[test]
-fn blockers_at_the_cone_edge_next_to_cell_corners() {
-    let v = VisionParams::default();
-    let mut rng = Stream::new(7, 0, 0, 0);
-    let mut pts = pinned_square(&mut rng);
-    let (i, j, k) = (4, 5, 6);
-    let (mut checked, mut blocked) = (0, 0);
-    while checked < 3000 {
-        let grid = SegmentGrid::new(&pts);
-        let g = if rng.coin() {
-            &grid.rows
-        } else {
-            &grid.columns
-        };
-        let (a, b) = (g.run, 1 - g.run);
-        let mut corner = DVec2::ZERO;
-        corner[a] = g.origin[0] + (1 + rng.below(g.cells - 2)) as f64 / g.inv_width;
-        corner[b] = g.origin[1] + (1 + rng.below(g.bands - 2)) as f64 * g.height;
-        let p = DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0);
-        // Through the corner, or just beside it (by about the cone's width).
-        corner[a] += rng.uniform_in(-2.0, 2.0) * v.eps_ang * (corner - p).length();
-        let q = p + (corner - p) * rng.uniform_in(1.2, 2.5);
-        let d = q - p;
-        let inside = (0..2).all(|x| (0.5..19.5).contains(&q[x]));
-        // Walked in `g` only if its run axis is the major axis.
-        if !inside || (d[a].abs() < d[b].abs()) || (g.run == 1 && d[a].abs() == d[b].abs()) {
-            continue;
-        }
-        let normal = DVec2::new(-d.y, d.x).normalize();
-        pts[i] = p;
-        pts[j] = q;
-        for side in [-1.0, 1.0] {
-            for frac in [0.5, 0.999, 1.001] {
-                pts[k] = corner + normal * (side * frac * v.eps_ang * (corner - p).length());
-                let expect = brute(&pts, i, j, &v);
-                assert_eq!(
-                    SegmentGrid::new(&pts).blocked(pts.as_slice(), i, j, &v, 0.0),
-                    expect,
-                    "{p} -> {q}, blocker {} ({frac})",
-                    pts[k]
-                );
-                checked += 1;
-                blocked += usize::from(expect);
+fn a_crowded_core_gets_finer_nested_parts() {
+    let mut rng = Stream::new(3, 0, 0, 0);
+    let plain = SegmentGrid::new(&pinned_square(&mut rng));
+    assert_eq!(plain.parts(), 1);
+    let pts = crowded_square(&mut rng);
+    let grid = SegmentGrid::new(&pts);
+    assert!(grid.parts() >= 2, "{:?}", grid.levels());
+    let inner = &grid.levels()[1];
+    assert!((0..2).all(|a| inner.lo[a] >= [11.9, 4.9][a] && inner.hi[a] <= [13.6, 6.6][a]));
+    assert!(inner.spacing * 4.0 <= grid.levels()[0].spacing);
+    assert_eq!(grid.cell_size(), grid.levels().last().unwrap().spacing);
+    // Every robot is held once, in the innermost part whose box holds it.
+    for layout in [&grid.rows, &grid.columns] {
+        let mut seen = vec![0; pts.len()];
+        for (x, part) in layout.parts.iter().enumerate() {
+            for r in 0..part.bands {
+                for s in layout.cells_range(part, r, 0, part.cells - 1) {
+                    let k = layout.items[s] as usize;
+                    seen[k] += 1;
+                    let deepest = grid.levels()[1..]
+                        .iter()
+                        .rposition(|l| l.holds(&pts[k]))
+                        .map_or(0, |l| l + 1);
+                    assert_eq!(x, deepest, "robot {k} at {}", pts[k]);
+                }
             }
         }
+        assert!(seen.iter().all(|&n| n == 1));
     }
-    assert!(
-        blocked > 1000,
-        "only {blocked} of {checked} placements block"
-    );
 }
+
+/// Blockers at the edge of the blocking cone, on lines of every slope through a
+/// corner of the cells they are walked in (so a blocker sits across a band edge and
+/// a cell edge from where the line enters the band), in every part of a crowded
+/// grid: the walk must find them all.
+#[test]
+fn blockers_at_the_cone_edge_next_to_cell_corners() {
+    for (swarm, seed) in [
+        (pinned_square as fn(&mut Stream) -> _, 7),
+        (crowded_square, 8),
+    ] {
+        let v = VisionParams::default();
+        let mut rng = Stream::new(seed, 0, 0, 0);
+        let mut pts = swarm(&mut rng);
+        let like = SegmentGrid::new(&pts);
+        let (i, j, k) = (4, 5, 6);
+        let (mut checked, mut blocked) = (0, 0);
+        while checked < 3000 {
+            let grid = grid_like(&like, &pts);
+            let g = if rng.coin() {
+                &grid.rows
+            } else {
+                &grid.columns
+            };
+            let part = &g.parts[rng.below(g.parts.len())];
+            let (a, b) = (g.run, 1 - g.run);
+            let mut corner = DVec2::ZERO;
+            corner[a] = part.origin[0] + (1 + rng.below(part.cells - 2)) as f64 / part.inv_width;
+            corner[b] = part.origin[1] + (1 + rng.below(part.bands - 2)) as f64 * part.height;
+            let p = DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0);
+            // Through the corner, or just beside it (by about the cone's width).
+            corner[a] += rng.uniform_in(-2.0, 2.0) * v.eps_ang * (corner - p).length();
+            let q = p + (corner - p) * rng.uniform_in(1.2, 2.5);
+            let d = q - p;
+            let inside = (0..2).all(|x| (0.5..19.5).contains(&q[x]));
+            // Walked in `g` only if its run axis is the major axis.
+            if !inside || (d[a].abs() < d[b].abs()) || (g.run == 1 && d[a].abs() == d[b].abs()) {
+                continue;
+            }
+            let normal = DVec2::new(-d.y, d.x).normalize();
+            pts[i] = p;
+            pts[j] = q;
+            for side in [-1.0, 1.0] {
+                for frac in [0.5, 0.999, 1.001] {
+                    pts[k] = corner + normal * (side * frac * v.eps_ang * (corner - p).length());
+                    let expect = brute(&pts, i, j, &v);
+                    assert_eq!(
+                        grid_like(&like, &pts).blocked(pts.as_slice(), i, j, &v, 0.0),
+                        expect,
+                        "{p} -> {q}, blocker {} ({frac})",
+                        pts[k]
+                    );
+                    checked += 1;
+                    blocked += usize::from(expect);
+                }
+            }
+        }
+        assert!(
+            blocked > 1000,
+            "only {blocked} of {checked} placements block"
+        );
+    }
+}
+
 /// A moving grid: a blocker on the line of sight whose point in the grid lies almost
 /// the drift away from it, on either side, next to a band's and a cell's corner, on
-/// lines of every slope: the walk, given that drift, visits its cell and finds it.
+/// lines of every slope, also in a crowded grid's nested parts: the walk, given that
+/// drift, visits its cell and finds it.
 #[test]
 fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
+    for (swarm, seed) in [
+        (pinned_square as fn(&mut Stream) -> _, 9),
+        (crowded_square, 10),
+    ] {
+        let v = VisionParams::default();
+        let mut rng = Stream::new(seed, 0, 0, 0);
+        let mut pts = swarm(&mut rng);
+        let (i, j, k) = (4, 5, 6);
+        let mut checked = 0;
+        while checked < 2000 {
+            let like = SegmentGrid::new(&pts);
+            let cell = like.cell_size();
+            let drift = cell * [0.3, 1.0, 2.0][checked % 3];
+            let p = DVec2::new(rng.uniform_in(2.0, 18.0), rng.uniform_in(2.0, 18.0));
+            let angle = rng.uniform() * std::f64::consts::TAU;
+            let mut q = p + DVec2::new(angle.cos(), angle.sin()) * rng.uniform_in(3.0, 8.0);
+            let mut on_line = p + (q - p) * rng.uniform_in(0.2, 0.8);
+            if rng.coin() {
+                // Through the crowded swarm's core.
+                on_line = DVec2::new(12.0 + 1.5 * rng.uniform(), 5.0 + 1.5 * rng.uniform());
+                q = p + (on_line - p) * rng.uniform_in(1.2, 2.5);
+            }
+            if !(0..2).all(|x| (0.5..19.5).contains(&q[x])) {
+                continue;
+            }
+            let normal = DVec2::new(p.y - q.y, q.x - p.x).normalize();
+            let side = if rng.coin() { 1.0 } else { -1.0 };
+            // Where the grid holds it: off the line by almost the drift, across an edge.
+            pts[i] = p;
+            pts[j] = q;
+            pts[k] = on_line + normal * (side * 0.999 * drift);
+            let mut grid = SegmentGrid::with_levels(&pts, &like.levels(), false);
+            // It is now on the line, a point again.
+            grid.set_disc(k, [on_line.x, on_line.y], 0.0);
+            let mut now = pts.clone();
+            now[k] = on_line;
+            let expect = (0..now.len()).any(|r| r != i && r != j && blocks(p, now[r], q, &v));
+            assert!(expect, "a robot on the line blocks");
+            assert!(
+                grid.blocked(now.as_slice(), i, j, &v, drift),
+                "{p} -> {q}: blocker held {} away",
+                0.999 * drift
+            );
+            checked += 1;
+        }
+    }
+}
+
+/// Lines of sight between random robots of a crowded swarm, inside the core, from it
+/// out and past it, some blocked by a robot placed on them: the walk agrees with the
+/// definition, also with the core's robots in mid-move (a moving grid).
+#[test]
+fn lines_of_sight_through_a_crowded_core_agree_with_the_definition() {
     let v = VisionParams::default();
-    let mut rng = Stream::new(9, 0, 0, 0);
-    let mut pts = pinned_square(&mut rng);
-    let (i, j, k) = (4, 5, 6);
-    let mut checked = 0;
-    while checked < 2000 {
-        let cell = SegmentGrid::new(&pts).cell_size();
-        let drift = cell * [0.3, 1.0, 2.0][checked % 3];
-        let p = DVec2::new(rng.uniform_in(2.0, 18.0), rng.uniform_in(2.0, 18.0));
-        let angle = rng.uniform() * std::f64::consts::TAU;
-        let q = p + DVec2::new(angle.cos(), angle.sin()) * rng.uniform_in(3.0, 8.0);
-        if !(0..2).all(|x| (0.5..19.5).contains(&q[x])) {
+    let mut rng = Stream::new(12, 0, 0, 0);
+    let mut pts = crowded_square(&mut rng);
+    let n = pts.len();
+    let like = SegmentGrid::new(&pts);
+    let (mut blocked, mut clear) = (0, 0);
+    for t in 0..3000 {
+        let (i, j) = (rng.below(n), rng.below(n));
+        if i == j {
             continue;
         }
-        let on_line = p + (q - p) * rng.uniform_in(0.2, 0.8);
-        let normal = DVec2::new(p.y - q.y, q.x - p.x).normalize();
-        let side = if rng.coin() { 1.0 } else { -1.0 };
-        // Where the grid holds it: off the line by almost the drift, across an edge.
-        pts[i] = p;
-        pts[j] = q;
-        pts[k] = on_line + normal * (side * 0.999 * drift);
-        let mut grid = SegmentGrid::moving(&pts);
-        // It is now on the line, a point again.
-        grid.set_disc(k, [on_line.x, on_line.y], 0.0);
-        let mut now = pts.clone();
-        now[k] = on_line;
-        let expect = (0..now.len()).any(|r| r != i && r != j && blocks(p, now[r], q, &v));
-        assert!(expect, "a robot on the line blocks");
-        assert!(
-            grid.blocked(now.as_slice(), i, j, &v, drift),
-            "{p} -> {q}: blocker held {} away",
-            0.999 * drift
+        if t % 2 == 0 {
+            // A blocker on the line, or just off it.
+            let k = 4 + rng.below(n - 4);
+            if k != i && k != j {
+                let (p, q) = (pts[i], pts[j]);
+                let d = q - p;
+                let s = rng.uniform_in(0.05, 0.95);
+                let normal = DVec2::new(-d.y, d.x).normalize();
+                let frac = rng.uniform_in(-1.5, 1.5);
+                pts[k] = p + d * s + normal * (frac * v.eps_ang * s * d.length());
+            }
+        }
+        let expect = brute(&pts, i, j, &v);
+        let grid = grid_like(&like, &pts);
+        assert_eq!(
+            grid.blocked(pts.as_slice(), i, j, &v, 0.0),
+            expect,
+            "{i} -> {j}"
         );
-        checked += 1;
+        // The same robots held a drift away, in a moving grid.
+        let drift = like.cell_size() * 0.7;
+        let base: Vec<DVec2> = pts
+            .iter()
+            .map(|&p| {
+                let angle = rng.uniform() * std::f64::consts::TAU;
+                let moved = p + DVec2::new(angle.cos(), angle.sin()) * drift * rng.uniform();
+                if like.covers(moved.x, moved.y) {
+                    moved
+                } else {
+                    p
+                }
+            })
+            .collect();
+        let moving = SegmentGrid::with_levels(&base, &like.levels(), false);
+        assert_eq!(
+            moving.blocked(pts.as_slice(), i, j, &v, drift),
+            expect,
+            "{i} -> {j}, moving"
+        );
+        blocked += usize::from(expect);
+        clear += usize::from(!expect);
     }
+    assert!(
+        blocked > 500 && clear > 500,
+        "{blocked} blocked, {clear} clear"
+    );
 }
 
 /// Robots with company within the radius (pairs at and around the radius, some
@@ -140,7 +285,8 @@ fn isolated_robots_have_nobody_within_the_radius() {
             pts.push(pts[2 + rng.below(2000)] + dir);
         } else {
             // Either side of a cell corner.
-            let (x, y) = g.corner(1 + rng.below(g.cells - 2), 1 + rng.below(g.bands - 2));
+            let part = &g.parts[0];
+            let (x, y) = part.corner(1 + rng.below(part.cells - 2), 1 + rng.below(part.bands - 2));
             let corner = DVec2::new(x, y);
             pts.extend([corner + dir * 0.5, corner - dir * 0.5]);
         }

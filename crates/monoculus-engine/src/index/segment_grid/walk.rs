@@ -113,7 +113,6 @@ impl SegmentGrid {
         let tol_b = 2.0 * (tol_cells - drift) + drift * secant * (1.0 + 1e-9);
         let (a_lo, a_hi) = (pa.min(pa + da) - tol_cells, pa.max(pa + da) + tol_cells);
         let (b_lo, b_hi) = (pb.min(pb + db) - tol_b, pb.max(pb + db) + tol_b);
-        let (r0, r1) = (g.band(b_lo), g.band(b_hi));
         // Rounding in the inverse below is covered by this much room on the major axis.
         let scale = pa
             .abs()
@@ -141,78 +140,127 @@ impl SegmentGrid {
         // layout (for a robot that moved since, its old place), sparing an exact pass
         // over the first and last slices without reading which robot each place holds.
         let mut ends = None;
-        // Bands are taken a batch at a time: first where the line crosses each, then
-        // its slice's bounds, then its robots, each step prefetching what the next one
-        // reads, so that the cache misses of a batch overlap instead of adding up.
-        const BATCH: usize = 32;
-        let mut cells = [(0usize, 0usize); BATCH];
-        let mut r = r0;
-        while r <= r1 {
-            let mut m = 0;
-            while r <= r1 && m < BATCH {
-                let (mut lo, mut hi) = (a_lo, a_hi);
-                if r0 < r1 && steep {
-                    // Where the line crosses band r, widened by `tol_b` (robots near a
-                    // band edge may sit in either band after rounding: `tol` includes
-                    // room for it).
-                    let edge0 = g.origin[1] + float(r) * g.height - tol_b;
-                    let edge1 = g.origin[1] + float(r + 1) * g.height + tol_b;
-                    let (t0, t1) = ((edge0 - pb) * inv_slope, (edge1 - pb) * inv_slope);
-                    let room = 64.0 * f64::EPSILON * (scale + t0.abs() + t1.abs());
-                    let (t_lo, t_hi) = if t1 < t0 { (t1, t0) } else { (t0, t1) };
-                    lo = raise(lo, pa + t_lo - room);
-                    hi = lower(hi, pa + t_hi + room);
+        for (nested, part) in g.parts.iter().enumerate() {
+            let (mut a_lo, mut a_hi, mut b_lo, mut b_hi) = (a_lo, a_hi, b_lo, b_hi);
+            if nested > 0 {
+                // Only the stretch of the segment within `tol_cells` of the part's box
+                // can pass a grid point of it that close (with room for rounding).
+                let room = 1e-9
+                    * (scale
+                        + part.origin[0].abs()
+                        + part.origin[1].abs()
+                        + part.top[0].abs()
+                        + part.top[1].abs());
+                let w = tol_cells * (1.0 + 1e-9) + room;
+                let t = clip((0.0, 1.0), pa, da, part.origin[0] - w, part.top[0] + w);
+                let (t0, t1) = clip(t, pb, db, part.origin[1] - w, part.top[1] + w);
+                if t0 > t1 {
+                    continue;
                 }
-                if lo <= hi {
-                    let row = r * g.cells;
-                    cells[m] = (row + g.cell(lo), row + g.cell(hi) + 1);
-                    prefetch(&g.start[cells[m].0]);
-                    prefetch(&g.start[cells[m].1]);
-                    m += 1;
+                let (a0, a1) = (pa + t0 * da, pa + t1 * da);
+                let (b0, b1) = (pb + t0 * db, pb + t1 * db);
+                a_lo = raise(a_lo, a0.min(a1) - tol_cells - room);
+                a_hi = lower(a_hi, a0.max(a1) + tol_cells + room);
+                b_lo = raise(b_lo, b0.min(b1) - tol_b - room);
+                b_hi = lower(b_hi, b0.max(b1) + tol_b + room);
+                if !part.meets(a_lo, a_hi, b_lo, b_hi) {
+                    continue;
                 }
-                r += 1;
             }
-            let mut slices = [(0usize, 0usize); BATCH];
-            for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
-                *slice = (g.start[c0] as usize, g.start[c1] as usize);
-                // A slice is a few robots: its first and last cache lines (the padding
-                // keeps both indices valid; the hardware streams longer slices).
-                prefetch(&g.coords[slice.0]);
-                prefetch(&g.coords[slice.1]);
-            }
-            for &(s0, s1) in &slices[..m] {
-                // Candidates are rare: one branch-free pass over the slice first.
-                let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
-                if reaching {
-                    // A candidate's disc came near the line: where it is now, first by the
-                    // cheap test, then the exact one.
-                    let blocker = |s: usize| {
-                        let k = g.items[s] as usize;
-                        filter.near_within(&g.coords[s], g.reach[s]) && k != i && k != j && {
-                            let r = positions.at(k);
-                            let (x, y) = (r.axis(0) - self.lo[0], r.axis(1) - self.lo[1]);
-                            filter.near_at(x, y) && blocks(p, r, q, v)
-                        }
-                    };
-                    if filter
-                        .line
-                        .any_within(&g.coords, &g.reach, s0, s1, ends, blocker)
-                    {
-                        return true;
+            let (r0, r1) = (part.band(b_lo), part.band(b_hi));
+            // Bands are taken a batch at a time: first where the line crosses each, then
+            // its slice's bounds, then its robots, each step prefetching what the next
+            // one reads, so that the cache misses of a batch overlap instead of adding
+            // up.
+            const BATCH: usize = 32;
+            let mut cells = [(0usize, 0usize); BATCH];
+            let mut r = r0;
+            while r <= r1 {
+                let mut m = 0;
+                while r <= r1 && m < BATCH {
+                    let (mut lo, mut hi) = (a_lo, a_hi);
+                    if r0 < r1 && steep {
+                        // Where the line crosses band r, widened by `tol_b` (robots near
+                        // a band edge may sit in either band after rounding: `tol`
+                        // includes room for it).
+                        let edge0 = part.origin[1] + float(r) * part.height - tol_b;
+                        let edge1 = part.origin[1] + float(r + 1) * part.height + tol_b;
+                        let (t0, t1) = ((edge0 - pb) * inv_slope, (edge1 - pb) * inv_slope);
+                        let room = 64.0 * f64::EPSILON * (scale + t0.abs() + t1.abs());
+                        let (t_lo, t_hi) = if t1 < t0 { (t1, t0) } else { (t0, t1) };
+                        lo = raise(lo, pa + t_lo - room);
+                        hi = lower(hi, pa + t_hi + room);
                     }
-                    continue;
+                    // A nested part's robots lie in its box: a band crossed beside it
+                    // has none near the line.
+                    let beside = nested > 0 && ((hi < part.origin[0]) | (lo > part.top[0]));
+                    if lo <= hi && !beside {
+                        let row = part.row(r);
+                        cells[m] = (row + part.cell(lo), row + part.cell(hi) + 1);
+                        prefetch(&g.start[cells[m].0]);
+                        prefetch(&g.start[cells[m].1]);
+                        m += 1;
+                    }
+                    r += 1;
                 }
-                if !filter.line.any(&g.coords, s0, s1, ends) {
-                    continue;
+                let mut slices = [(0usize, 0usize); BATCH];
+                for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
+                    *slice = (g.start[c0] as usize, g.start[c1] as usize);
+                    // A slice is a few robots: its first and last cache lines (the padding
+                    // keeps both indices valid; the hardware streams longer slices).
+                    prefetch(&g.coords[slice.0]);
+                    prefetch(&g.coords[slice.1]);
                 }
-                for s in s0..s1 {
-                    let k = g.items[s] as usize;
-                    if near(&g.coords[s]) && k != i && k != j && blocks(p, positions.at(k), q, v) {
-                        return true;
+                for &(s0, s1) in &slices[..m] {
+                    // Candidates are rare: one branch-free pass over the slice first.
+                    let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
+                    if reaching {
+                        // A candidate's disc came near the line: where it is now, first by the
+                        // cheap test, then the exact one.
+                        let blocker = |s: usize| {
+                            let k = g.items[s] as usize;
+                            filter.near_within(&g.coords[s], g.reach[s]) && k != i && k != j && {
+                                let r = positions.at(k);
+                                let (x, y) = (r.axis(0) - self.lo[0], r.axis(1) - self.lo[1]);
+                                filter.near_at(x, y) && blocks(p, r, q, v)
+                            }
+                        };
+                        if filter
+                            .line
+                            .any_within(&g.coords, &g.reach, s0, s1, ends, blocker)
+                        {
+                            return true;
+                        }
+                        continue;
+                    }
+                    if !filter.line.any(&g.coords, s0, s1, ends) {
+                        continue;
+                    }
+                    for s in s0..s1 {
+                        let k = g.items[s] as usize;
+                        if near(&g.coords[s])
+                            && k != i
+                            && k != j
+                            && blocks(p, positions.at(k), q, v)
+                        {
+                            return true;
+                        }
                     }
                 }
             }
         }
         false
     }
+}
+
+/// The part of the parameter interval `t` (of `p + t d` on one axis) where the point is
+/// within `[lo, hi]` on that axis (empty: start above end).
+#[inline(always)]
+fn clip(t: (f64, f64), p: f64, d: f64, lo: f64, hi: f64) -> (f64, f64) {
+    if d == 0.0 {
+        return if (lo <= p) & (p <= hi) { t } else { (1.0, 0.0) };
+    }
+    let (u0, u1) = ((lo - p) / d, (hi - p) / d);
+    let (u0, u1) = if u1 < u0 { (u1, u0) } else { (u0, u1) };
+    (raise(t.0, u0), lower(t.1, u1))
 }
