@@ -1,5 +1,6 @@
 //! `monoculus`: the command line of the simulator.
 
+mod allocator;
 mod commands;
 
 use std::process::ExitCode;
@@ -9,6 +10,7 @@ use clap::Parser;
 use crate::commands::{Cli, Failure};
 
 fn main() -> ExitCode {
+    allocator::map_large_blocks();
     let cli = Cli::parse();
     match commands::dispatch(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,8 +5,9 @@
 pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: prefetching is a hint that never faults, here on a valid reference. One of
-    // the workspace's two unsafe blocks (the other calls the AVX2 walk once the CPU is
-    // known to have it); `unsafe_code = "deny"` everywhere else.
+    // the workspace's three unsafe blocks (the others call the AVX2 walk once the CPU is
+    // known to have it, and set the C allocator's threshold in the command line);
+    // `unsafe_code = "deny"` everywhere else.
     #[allow(
         unsafe_code,
         unused_unsafe,
