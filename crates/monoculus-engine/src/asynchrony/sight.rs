@@ -210,11 +210,12 @@ impl<P: IndexPoint> LookSight<P> {
         for &(k, m) in self.movers.iter() {
             base[k as usize] = m.at(settled[k as usize], tick);
         }
-        let mut index = P::Index::moving(base)?;
         let n = settled.len();
+        let one_tick = rate * DRIFT_COST * LIMIT >= n as f64;
+        let mut index = P::Index::moving(base, one_tick)?;
         let stale_limit = stale_limit(n);
         let limit = LIMIT * index.cell_size();
-        let last = if rate * DRIFT_COST * LIMIT >= n as f64 {
+        let last = if one_tick {
             tick
         } else {
             // The last tick each mover stays within the limit, for those that would

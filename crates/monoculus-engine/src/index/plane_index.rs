@@ -160,9 +160,10 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         true
     }
 
-    /// The grid, its two layouts built at once, with room for a disc per robot.
-    fn moving(positions: Vec<DVec2>) -> Option<Self> {
-        let grid = SegmentGrid::moving(&positions);
+    /// The grid, its two layouts built at once, with room for a disc per robot; nested
+    /// parts over a crowded core only for one tick.
+    fn moving(positions: Vec<DVec2>, one_tick: bool) -> Option<Self> {
+        let grid = SegmentGrid::moving(&positions, one_tick);
         Some(PlaneIndex {
             grid: OnceLock::from(Box::new(grid)),
             stale: Stale::none(positions.len()),

@@ -29,7 +29,11 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// with the robots where they are at the time. How far from its point a disc may
     /// reach is set by [`SpatialIndex::allow`] (until then, not at all). `None` where
     /// this index cannot follow robots (the R-tree: a new one is made at every tick).
-    fn moving(_positions: Vec<P>) -> Option<Self> {
+    /// `one_tick`: it serves one tick only, every robot at its point (so its cells may
+    /// be sized for the robots they hold, finer in a crowded core; an index that
+    /// follows robots for longer has cells of one size, the drift widening every query
+    /// being counted in them).
+    fn moving(_positions: Vec<P>, _one_tick: bool) -> Option<Self> {
         None
     }
 

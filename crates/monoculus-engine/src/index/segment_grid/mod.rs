@@ -64,18 +64,19 @@ pub struct SegmentGrid {
 impl SegmentGrid {
     /// A grid over the first two coordinates of `points`.
     pub fn new<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, false, MOST_CELLS)
+        Self::build(points, false, MOST_CELLS, true)
     }
 
     /// The same, its two layouts built at once on two threads of the current rayon
     /// pool. Not from inside a parallel section whose tasks may ask for this grid:
     /// a thread waiting on the second layout may run such a task meanwhile.
     pub fn new_parallel<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, true, MOST_CELLS)
+        Self::build(points, true, MOST_CELLS, true)
     }
 
-    /// A grid with at most about `most` times as many cells per layout as robots.
-    fn build<P: Point + Sync>(points: &[P], parallel: bool, most: f64) -> Self {
+    /// A grid with at most about `most` times as many cells per layout as robots, its
+    /// crowded core in nested parts if `nested`.
+    fn build<P: Point + Sync>(points: &[P], parallel: bool, most: f64, nested: bool) -> Self {
         let n = points.len().max(1) as f64;
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in points {
@@ -101,16 +102,23 @@ impl SegmentGrid {
             .max(longest / (2.0 * n.sqrt()))
             .max(longest * 1e-9)
             .max(1e-300);
-        let levels = levels(points, Level { lo, hi, spacing });
-        Self::with_levels(points, &levels, parallel)
+        let first = Level { lo, hi, spacing };
+        if !nested {
+            return Self::with_levels(points, &[first], parallel);
+        }
+        Self::with_levels(points, &levels(points, first), parallel)
     }
 
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
     /// given a disc it stays in ([`SegmentGrid::set_disc`]); until then its point. At
     /// most [`MOST_MOVING_CELLS`] cells per robot: such a grid is made often, so that
     /// its cells cost time, and under ASYNC it shares the memory with the robots' clocks.
-    pub fn moving<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, true, MOST_MOVING_CELLS)
+    /// With `nested`, a crowded core gets finer nested parts, as in [`SegmentGrid::new`];
+    /// without, the cells are of one size, that of the grid's first part: the drift
+    /// walks must be given widens them by as many of its cells (in a nested part, by
+    /// many more of the finer ones).
+    pub fn moving<P: Point + Sync>(points: &[P], nested: bool) -> Self {
+        Self::build(points, true, MOST_MOVING_CELLS, nested)
     }
 
     /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of
