@@ -49,8 +49,6 @@ pub struct SegmentGrid {
     rows: Bands,
     /// Vertical bands (running along y): lines of sight with |dy| > |dx|.
     columns: Bands,
-    /// The side of the smallest cells.
-    spacing: f64,
     /// The lower corner of the swarm, origin of the stored coordinates.
     lo: [f64; 2],
     /// The upper corner of the swarm.
@@ -172,10 +170,6 @@ impl SegmentGrid {
         SegmentGrid {
             rows,
             columns,
-            spacing: levels
-                .iter()
-                .map(|l| l.spacing)
-                .fold(f64::INFINITY, f64::min),
             lo,
             hi,
             // A relative coordinate r is stored as r(1 + e) with |e| <= 2^-24; the
@@ -203,9 +197,10 @@ impl SegmentGrid {
     }
 
     /// The side of the grid's smallest cells (the mean spacing between robots where
-    /// they are densest).
+    /// they are densest): those of its innermost part, each nested part's being finer
+    /// than the one around it.
     pub fn cell_size(&self) -> f64 {
-        self.spacing
+        self.rows.parts.last().expect("a first part").spacing
     }
 
     /// The number of parts of each layout (1 unless the swarm is crowded).
@@ -233,7 +228,7 @@ fn quartile_box_area<P: Point>(points: &[P]) -> f64 {
 }
 
 /// At most this many parts to a layout.
-const MOST_LEVELS: usize = 4;
+pub(super) const MOST_LEVELS: usize = 4;
 /// A nested part is made for a box whose robots would be at least this many times as
 /// dense as the cells of the part around it are made for...
 const CROWDED: f64 = 16.0;

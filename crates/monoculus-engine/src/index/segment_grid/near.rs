@@ -139,7 +139,7 @@ impl SegmentGrid {
         // from them; twice that leaves room.
         let extent = self.lo[0].abs() + self.lo[1].abs() + self.hi[0].abs() + self.hi[1].abs();
         let reach = radius + 4.0 * self.rounding + 16.0 * f64::EPSILON * extent;
-        if !self.single || reach.is_nan() || reach >= self.spacing {
+        if !self.single || reach.is_nan() || reach >= self.cell_size() {
             return false;
         }
         let s = g.place[k] as usize;

@@ -4,7 +4,7 @@ use monoculus_core::geometry::Point;
 
 use super::super::Locate;
 use super::bands::{Bands, Part};
-use super::{SegmentGrid, Stale};
+use super::{MOST_LEVELS, SegmentGrid, Stale};
 
 impl SegmentGrid {
     /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
@@ -26,21 +26,18 @@ impl SegmentGrid {
             .filter(|&k| k != i)
             .map(|k| std::cmp::Reverse(((positions.at(k) - p).length().to_bits(), k)))
             .collect();
+        // One per part, in place (no allocation: asked once per Look that counts
+        // beyond its neighbours).
+        let mut rings = [Rings::default(); MOST_LEVELS];
+        for (rings, part) in rings.iter_mut().zip(&g.parts) {
+            rings.cell = (part.cell(p.axis(0)), part.band(p.axis(1)));
+        }
         Nearest {
             grid: g,
             positions,
             i,
             p,
-            rings: g
-                .parts
-                .iter()
-                .map(|part| Rings {
-                    cell: (part.cell(p.axis(0)), part.band(p.axis(1))),
-                    ring: None,
-                    reach: 0.0,
-                    exhausted: false,
-                })
-                .collect(),
+            rings,
             heap,
             stale,
             drift,
@@ -54,8 +51,8 @@ pub(super) struct Nearest<'a, P: Point, L: ?Sized> {
     pub(super) positions: &'a L,
     pub(super) i: usize,
     pub(super) p: P,
-    /// Per part, how far its rings have gone.
-    pub(super) rings: Vec<Rings>,
+    /// Per part (the first as many as the grid has), how far its rings have gone.
+    pub(super) rings: [Rings; MOST_LEVELS],
     /// Visited robots not yet given out: (distance bits, robot), nearest on top.
     pub(super) heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>>,
     /// Robots whose cells are out of date (queued from the start).
@@ -65,6 +62,7 @@ pub(super) struct Nearest<'a, P: Point, L: ?Sized> {
 }
 
 /// The rings of cells visited in one part.
+#[derive(Clone, Copy, Default)]
 pub(super) struct Rings {
     /// The observer's cell and band (clamped to the part).
     pub(super) cell: (usize, usize),
@@ -132,7 +130,8 @@ impl<P: Point, L: Locate<P> + ?Sized> Iterator for Nearest<'_, P, L> {
         loop {
             // The part whose unvisited cells may hold the nearest robots.
             let mut next: Option<(usize, f64)> = None;
-            for (x, rings) in self.rings.iter().enumerate() {
+            let parts = self.grid.parts.len();
+            for (x, rings) in self.rings[..parts].iter().enumerate() {
                 if !rings.exhausted && next.is_none_or(|(_, reach)| rings.reach < reach) {
                     next = Some((x, rings.reach));
                 }

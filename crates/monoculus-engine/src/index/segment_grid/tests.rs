@@ -292,7 +292,7 @@ fn isolated_robots_have_nobody_within_the_radius() {
         }
     }
     // The same cells as `first`.
-    let grid = SegmentGrid::with_spacing(&pts, first.spacing, first.lo, first.hi, false);
+    let grid = SegmentGrid::with_spacing(&pts, first.cell_size(), first.lo, first.hi, false);
     let (mut lone, mut missed) = (0, 0);
     for (k, &p) in pts.iter().enumerate() {
         let alone = pts
