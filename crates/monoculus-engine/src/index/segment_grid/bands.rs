@@ -165,18 +165,23 @@ impl Bands {
             reach: Vec::new(),
         };
         let across = 1 - run;
-        let slot: Vec<u32> = points
-            .iter()
-            .map(|p| {
-                let level = levels[1..]
-                    .iter()
-                    .rposition(|l| l.holds(p))
-                    .map_or(0, |k| k + 1);
-                let part = &grid.parts[level];
-                let (c, r) = (part.cell(p.axis(run)), part.band(p.axis(across)));
-                (part.row(r) + c) as u32
-            })
-            .collect();
+        let cell = |part: &Part, p: &P| {
+            (part.row(part.band(p.axis(across))) + part.cell(p.axis(run))) as u32
+        };
+        let slot: Vec<u32> = if let [part] = &grid.parts[..] {
+            points.iter().map(|p| cell(part, p)).collect()
+        } else {
+            points
+                .iter()
+                .map(|p| {
+                    let level = levels[1..]
+                        .iter()
+                        .rposition(|l| l.holds(p))
+                        .map_or(0, |k| k + 1);
+                    cell(&grid.parts[level], p)
+                })
+                .collect()
+        };
         // A counting sort with no second array of cells (a grid can have 16n of them):
         // each cell's end, then its robots placed from the last one down, which leaves
         // its start there and its robots ascending.

@@ -75,36 +75,11 @@ impl SegmentGrid {
     /// A grid with at most about `most` times as many cells per layout as robots, its
     /// crowded core in nested parts if `nested`.
     fn build<P: Point + Sync>(points: &[P], parallel: bool, most: f64, nested: bool) -> Self {
-        let n = points.len().max(1) as f64;
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in points {
-            for a in 0..2 {
-                lo[a] = lo[a].min(p.axis(a));
-                hi[a] = hi[a].max(p.axis(a));
-            }
-        }
-        if points.is_empty() {
-            (lo, hi) = ([0.0; 2], [0.0; 2]);
-        }
-        let ext = [hi[0] - lo[0], hi[1] - lo[1]];
-        let longest = ext[0].max(ext[1]);
-        // The mean spacing in the swarm's core (its interquartile box holds about a
-        // quarter of the robots): a converging swarm is dense in the middle with a few
-        // robots far out, and lines of sight cross the core. But never more than about
-        // `most` n cells per layout (straggling swarms: memory against walk length, see
-        // docs/performance.md), nor 4n for thin ones.
-        let core = quartile_box_area(points) / (0.25 * n);
-        let spacing = core
-            .sqrt()
-            .max((ext[0] * ext[1] / (most * n * BAND * CELL)).sqrt())
-            .max(longest / (2.0 * n.sqrt()))
-            .max(longest * 1e-9)
-            .max(1e-300);
-        let first = Level { lo, hi, spacing };
+        let (first, sample, quartile) = first_level(points, most);
         if !nested {
             return Self::with_levels(points, &[first], parallel);
         }
-        Self::with_levels(points, &levels(points, first), parallel)
+        Self::with_levels(points, &sample.levels(first, quartile), parallel)
     }
 
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
@@ -209,24 +184,6 @@ impl SegmentGrid {
     }
 }
 
-/// The area of the box between the first and third quartiles of each coordinate,
-/// estimated from at most 4096 robots (evenly strided: a function of the positions).
-fn quartile_box_area<P: Point>(points: &[P]) -> f64 {
-    let stride = points.len().div_ceil(4096).max(1);
-    let mut area = 1.0;
-    for a in 0..2 {
-        let mut v: Vec<f64> = points.iter().step_by(stride).map(|p| p.axis(a)).collect();
-        if v.len() < 4 {
-            return 0.0;
-        }
-        let (q1, q3) = (v.len() / 4, 3 * v.len() / 4);
-        let x3 = *v.select_nth_unstable_by(q3, f64::total_cmp).1;
-        let x1 = *v[..q3].select_nth_unstable_by(q1, f64::total_cmp).1;
-        area *= x3 - x1;
-    }
-    area
-}
-
 /// At most this many parts to a layout.
 pub(super) const MOST_LEVELS: usize = 4;
 /// A nested part is made for a box whose robots would be at least this many times as
@@ -235,67 +192,167 @@ const CROWDED: f64 = 16.0;
 /// ...and that holds at least this many robots.
 const FEWEST_NESTED: f64 = 64.0;
 
-/// The levels of a grid's parts, the first given (the swarm's box). Where the robots
-/// of the box between the tenth and ninetieth percentiles of each coordinate (of the
-/// robots of the last box) are [`CROWDED`] times as dense as its cells are made for,
-/// that box becomes the next level, its cells sized for its own robots; and so on, up
-/// to [`MOST_LEVELS`]. A converging swarm packs most robots in a core a few units
-/// across while stragglers hold its box wide: cells sized for the box would hold
-/// hundreds of robots each. Estimated from at most 4096 robots (evenly strided: a
-/// function of the positions).
-fn levels<P: Point>(points: &[P], first: Level) -> Vec<Level> {
-    let mut levels = vec![first];
-    let stride = points.len().div_ceil(4096).max(1);
-    let mut sample: Vec<[f64; 2]> = points
-        .iter()
-        .step_by(stride)
-        .map(|p| [p.axis(0), p.axis(1)])
-        .filter(|&[x, y]| first.holds_xy(x, y))
-        .collect();
-    // Robots per sampled one.
-    let per = points.len() as f64 / points.len().div_ceil(stride).max(1) as f64;
-    let mut outer = None;
-    while levels.len() < MOST_LEVELS && sample.len() >= 10 {
-        let mut lo = [0.0; 2];
-        let mut hi = [0.0; 2];
+/// The first level of a grid over `points` with at most about `most` times as many
+/// cells per layout as robots (the swarm's box), the robots sampled for the next ones,
+/// and the area per robot of the swarm of its box between the first and third
+/// quartiles of each coordinate.
+fn first_level<P: Point>(points: &[P], most: f64) -> (Level, Sample, f64) {
+    let n = points.len().max(1) as f64;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
         for a in 0..2 {
-            let mut v: Vec<f64> = sample.iter().map(|p| p[a]).collect();
-            let (q1, q9) = (v.len() / 10, v.len() - 1 - v.len() / 10);
-            hi[a] = *v.select_nth_unstable_by(q9, f64::total_cmp).1;
-            lo[a] = *v[..q9].select_nth_unstable_by(q1, f64::total_cmp).1;
+            lo[a] = lo[a].min(p.axis(a));
+            hi[a] = hi[a].max(p.axis(a));
         }
-        let level = Level {
-            lo,
-            hi,
-            spacing: 0.0,
+    }
+    if points.is_empty() {
+        (lo, hi) = ([0.0; 2], [0.0; 2]);
+    }
+    let ext = [hi[0] - lo[0], hi[1] - lo[1]];
+    let longest = ext[0].max(ext[1]);
+    let first = Level {
+        lo,
+        hi,
+        spacing: 0.0,
+    };
+    let sample = Sample::of(points, &first);
+    // The mean spacing in the swarm's core (its interquartile box holds about a
+    // quarter of the robots): a converging swarm is dense in the middle with a few
+    // robots far out, and lines of sight cross the core. But never more than about
+    // `most` n cells per layout (straggling swarms: memory against walk length, see
+    // docs/performance.md), nor 4n for thin ones.
+    let quartile = sample.quartile_box_area() / n;
+    let spacing = (4.0 * quartile)
+        .sqrt()
+        .max((ext[0] * ext[1] / (most * n * BAND * CELL)).sqrt())
+        .max(longest / (2.0 * n.sqrt()))
+        .max(longest * 1e-9)
+        .max(1e-300);
+    (Level { spacing, ..first }, sample, quartile)
+}
+
+/// Robots sampled from a swarm, for the sizes of a grid's cells: at most 4096 (evenly
+/// strided, so a function of the positions), those within the swarm's box.
+struct Sample {
+    /// Their first two coordinates.
+    points: Vec<[f64; 2]>,
+    /// Robots of the swarm per sampled one.
+    per: f64,
+}
+
+impl Sample {
+    fn of<P: Point>(points: &[P], first: &Level) -> Self {
+        let stride = points.len().div_ceil(4096).max(1);
+        let sampled = points.len().div_ceil(stride);
+        let mut sample = Vec::with_capacity(sampled);
+        for p in points.iter().step_by(stride) {
+            let (x, y) = (p.axis(0), p.axis(1));
+            if first.holds_xy(x, y) {
+                sample.push([x, y]);
+            }
+        }
+        Sample {
+            points: sample,
+            per: points.len() as f64 / sampled.max(1) as f64,
+        }
+    }
+
+    /// The area of the box between the first and third quartiles of each coordinate.
+    fn quartile_box_area(&self) -> f64 {
+        if self.points.len() < 4 {
+            return 0.0;
+        }
+        let side = |a| {
+            let [q1, q3] = ranked(&self.points, a, |len| [len / 4, 3 * len / 4]);
+            q3 - q1
         };
-        let inside: Vec<[f64; 2]> = sample
-            .iter()
-            .copied()
-            .filter(|&[x, y]| level.holds_xy(x, y))
-            .collect();
-        let m = inside.len() as f64 * per;
-        let ext = [hi[0] - lo[0], hi[1] - lo[1]];
-        let longest = ext[0].max(ext[1]);
-        let spacing = (ext[0] * ext[1] / m)
-            .sqrt()
-            .max(longest / (2.0 * m.sqrt()))
-            .max(longest * 1e-9)
-            .max(1e-300);
-        let around = levels.last().expect("the first level").spacing;
-        // (A NaN spacing is no crowding.)
-        let crowded = (spacing * spacing * CROWDED).partial_cmp(&(around * around));
-        if m < FEWEST_NESTED || crowded.is_none_or(|o| o.is_gt()) {
-            break;
+        side(0) * side(1)
+    }
+
+    /// The levels of a grid's parts, the first given (the swarm's box), for a swarm of
+    /// `n` robots whose [quartile box](Sample::quartile_box_area) has area `quartile`
+    /// per robot of the swarm. Where the robots of the box between the tenth and ninetieth percentiles
+    /// of each coordinate (of the robots of the last box) are [`CROWDED`] times as
+    /// dense as its cells are made for, that box becomes the next level, its cells
+    /// sized for its own robots; and so on, up to [`MOST_LEVELS`]. A converging swarm
+    /// packs most robots in a core a few units across while stragglers hold its box
+    /// wide: cells sized for the box would hold hundreds of robots each.
+    fn levels(&self, first: Level, quartile: f64) -> Vec<Level> {
+        let mut levels = vec![first];
+        // The first nested box holds the quartile box and at most every robot, so it is
+        // crowded only if the first cells are made for [`CROWDED`] times `quartile`
+        // (one less leaves room for rounding).
+        if first.spacing * first.spacing < (CROWDED - 1.0) * quartile {
+            return levels;
         }
-        levels.push(Level { spacing, ..level });
-        outer.get_or_insert((sample.len() - inside.len()) as f64 * per);
-        sample = inside;
+        let per = self.per;
+        // The sample within the last level's box (after the first).
+        let mut nested: Option<Vec<[f64; 2]>> = None;
+        let mut outer = None;
+        while levels.len() < MOST_LEVELS {
+            let sample = nested.as_deref().unwrap_or(&self.points);
+            if sample.len() < 10 {
+                break;
+            }
+            let deciles = |a| ranked(sample, a, |len| [len / 10, len - 1 - len / 10]);
+            let ([x0, x1], [y0, y1]) = (deciles(0), deciles(1));
+            let level = Level {
+                lo: [x0, y0],
+                hi: [x1, y1],
+                spacing: 0.0,
+            };
+            let inside: Vec<[f64; 2]> = sample
+                .iter()
+                .copied()
+                .filter(|&[x, y]| level.holds_xy(x, y))
+                .collect();
+            let m = inside.len() as f64 * per;
+            let ext = [x1 - x0, y1 - y0];
+            let longest = ext[0].max(ext[1]);
+            let spacing = (ext[0] * ext[1] / m)
+                .sqrt()
+                .max(longest / (2.0 * m.sqrt()))
+                .max(longest * 1e-9)
+                .max(1e-300);
+            let around = levels.last().expect("the first level").spacing;
+            // (A NaN spacing is no crowding.)
+            let crowded = (spacing * spacing * CROWDED).partial_cmp(&(around * around));
+            if m < FEWEST_NESTED || crowded.is_none_or(|o| o.is_gt()) {
+                break;
+            }
+            levels.push(Level { spacing, ..level });
+            outer.get_or_insert((sample.len() - inside.len()) as f64 * per);
+            nested = Some(inside);
+        }
+        // The first part then holds only the robots outside the second: cells for as
+        // many.
+        if let Some(m) = outer {
+            let longest = (first.hi[0] - first.lo[0]).max(first.hi[1] - first.lo[1]);
+            levels[0].spacing = first.spacing.max(longest / (2.0 * m.max(1.0).sqrt()));
+        }
+        levels
     }
-    // The first part then holds only the robots outside the second: cells for as many.
-    if let Some(m) = outer {
-        let longest = (first.hi[0] - first.lo[0]).max(first.hi[1] - first.lo[1]);
-        levels[0].spacing = first.spacing.max(longest / (2.0 * m.max(1.0).sqrt()));
+}
+
+/// The values of ranks `ranks(len)` (ascending, below `len`) of coordinate `a` of
+/// `points`, each selected among the values ranked below the next one.
+fn ranked<const K: usize>(
+    points: &[[f64; 2]],
+    a: usize,
+    ranks: impl Fn(usize) -> [usize; K],
+) -> [f64; K] {
+    let mut v: Vec<f64> = points.iter().map(|p| p[a]).collect();
+    let ranks = ranks(v.len());
+    let mut out = [0.0; K];
+    let mut end = v.len();
+    for k in (0..K).rev() {
+        if ranks[k] < end {
+            out[k] = *v[..end].select_nth_unstable_by(ranks[k], f64::total_cmp).1;
+            end = ranks[k];
+        } else {
+            // The same rank as the next one.
+            out[k] = out[k + 1];
+        }
     }
-    levels
+    out
 }

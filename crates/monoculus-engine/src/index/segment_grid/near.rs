@@ -16,12 +16,13 @@ impl SegmentGrid {
     /// around `(x, y)` (the first always: its box is every robot's).
     #[inline]
     fn parts_near(&self, x: f64, y: f64, radius: f64) -> impl Iterator<Item = &Part> {
+        let (x0, x1, y0, y1) = (x - radius, x + radius, y - radius, y + radius);
         let parts = &self.rows.parts;
-        parts[..1].iter().chain(
-            parts[1..]
-                .iter()
-                .filter(move |p| p.meets(x - radius, x + radius, y - radius, y + radius)),
-        )
+        parts
+            .iter()
+            .enumerate()
+            .filter(move |(k, p)| *k == 0 || p.meets(x0, x1, y0, y1))
+            .map(|(_, p)| p)
     }
 
     /// Asks for the cell bounds [`SegmentGrid::for_each_near`] reads first around

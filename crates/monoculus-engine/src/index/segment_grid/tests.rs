@@ -82,6 +82,51 @@ fn a_crowded_core_gets_finer_nested_parts() {
     }
 }
 
+/// The shortcut that spares an uncrowded swarm its deciles (its first nested box could
+/// be crowded only if the first cells were made for 16 times the quartile box's area
+/// per robot) never leaves out a part: the levels are those found without it, for
+/// both limits on the cells, on a square of 100 robots whose core of 4000 more shrinks
+/// step by step to a 500th of the square's side (across the threshold of crowding), then
+/// stretched by stragglers up to 10^17 times its side.
+#[test]
+fn the_crowding_shortcut_never_leaves_out_a_part() {
+    let mut rng = Stream::new(9, 0, 0, 0);
+    let (mut nested, mut skipped) = (0, 0);
+    for step in 0..160 {
+        // The core shrinks by 0.95 a step over the first 120 steps; then the square,
+        // with a core of side 0.04, is stretched by two stragglers.
+        let side = 20.0 * 0.95f64.powi(step.min(120));
+        let within = |rng: &mut Stream, side: f64| side * rng.uniform();
+        let mut pts = vec![DVec2::ZERO, DVec2::new(20.0, 20.0)];
+        pts.extend((0..100).map(|_| DVec2::new(within(&mut rng, 20.0), within(&mut rng, 20.0))));
+        pts.extend(
+            (0..4000)
+                .map(|_| DVec2::new(4.0 + within(&mut rng, side), 4.0 + within(&mut rng, side))),
+        );
+        if step > 120 {
+            let far = 20.0 * 1.4f64.powi(step - 120);
+            pts.extend([DVec2::new(-far, 0.0), DVec2::new(0.0, far)]);
+        }
+        for most in [MOST_CELLS, MOST_MOVING_CELLS] {
+            let (first, sample, quartile) = first_level(&pts, most);
+            let levels = sample.levels(first, quartile);
+            let without = sample.levels(first, 0.0);
+            let boxes = |l: &[Level]| {
+                l.iter()
+                    .map(|l| (l.lo, l.hi, l.spacing))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(boxes(&levels), boxes(&without), "step {step}");
+            nested += usize::from(levels.len() > 1);
+            skipped += usize::from(first.spacing.powi(2) < (CROWDED - 1.0) * quartile);
+        }
+    }
+    assert!(
+        nested > 20 && skipped > 20,
+        "{nested} nested, {skipped} skipped"
+    );
+}
+
 /// Blockers at the edge of the blocking cone, on lines of every slope through a
 /// corner of the cells they are walked in (so a blocker sits across a band edge and
 /// a cell edge from where the line enters the band), in every part of a crowded
