@@ -191,6 +191,10 @@ pub(super) const MOST_LEVELS: usize = 4;
 const CROWDED: f64 = 16.0;
 /// ...and that holds at least this many robots.
 const FEWEST_NESTED: f64 = 64.0;
+/// The boxes tried for a nested part, widest first: a box between ranks `len / cut`
+/// and `len - 1 - len / cut` of each coordinate (the 5th and 95th percentiles, then
+/// the 10th and 90th).
+const CUTS: [usize; 2] = [20, 10];
 
 /// The first level of a grid over `points` with at most about `most` times as many
 /// cells per layout as robots (the swarm's box), the robots sampled for the next ones,
@@ -271,21 +275,22 @@ impl Sample {
 
     /// The levels of a grid's parts, the first given (the swarm's box), for a swarm of
     /// `n` robots whose [quartile box](Sample::quartile_box_area) has area `quartile`
-    /// per robot of the swarm. Where the robots of the box between the tenth and ninetieth percentiles
-    /// of each coordinate (of the robots of the last box) are [`CROWDED`] times as
-    /// dense as its cells are made for, that box becomes the next level, its cells
-    /// sized for its own robots; and so on, up to [`MOST_LEVELS`]. A converging swarm
-    /// packs most robots in a core a few units across while stragglers hold its box
-    /// wide: cells sized for the box would hold hundreds of robots each.
+    /// per robot of the swarm. Where the robots of a box between two percentiles of
+    /// each coordinate (of the robots of the last box) are [`CROWDED`] times as dense
+    /// as its cells are made for, that box becomes the next level, its cells sized for
+    /// its own robots; and so on, up to [`MOST_LEVELS`]. The boxes tried are those of
+    /// [`CUTS`], the widest first. A converging swarm packs most robots in a core a few
+    /// units across while stragglers hold its box wide: cells sized for the box would
+    /// hold hundreds of robots each. Its density falls off around the core, so that a
+    /// box around only the core would leave a dense ring in the coarse cells around it.
     fn levels(&self, first: Level, quartile: f64) -> Vec<Level> {
         let mut levels = vec![first];
-        // The first nested box holds the quartile box and at most every robot, so it is
-        // crowded only if the first cells are made for [`CROWDED`] times `quartile`
+        // Every box tried holds the quartile box and at most every robot, so the first
+        // is crowded only if the first cells are made for [`CROWDED`] times `quartile`
         // (one less leaves room for rounding).
         if first.spacing * first.spacing < (CROWDED - 1.0) * quartile {
             return levels;
         }
-        let per = self.per;
         // The sample within the last level's box (after the first).
         let mut nested: Option<Vec<[f64; 2]>> = None;
         let mut outer = None;
@@ -294,34 +299,15 @@ impl Sample {
             if sample.len() < 10 {
                 break;
             }
-            let deciles = |a| ranked(sample, a, |len| [len / 10, len - 1 - len / 10]);
-            let ([x0, x1], [y0, y1]) = (deciles(0), deciles(1));
-            let level = Level {
-                lo: [x0, y0],
-                hi: [x1, y1],
-                spacing: 0.0,
-            };
-            let inside: Vec<[f64; 2]> = sample
-                .iter()
-                .copied()
-                .filter(|&[x, y]| level.holds_xy(x, y))
-                .collect();
-            let m = inside.len() as f64 * per;
-            let ext = [x1 - x0, y1 - y0];
-            let longest = ext[0].max(ext[1]);
-            let spacing = (ext[0] * ext[1] / m)
-                .sqrt()
-                .max(longest / (2.0 * m.sqrt()))
-                .max(longest * 1e-9)
-                .max(1e-300);
             let around = levels.last().expect("the first level").spacing;
-            // (A NaN spacing is no crowding.)
-            let crowded = (spacing * spacing * CROWDED).partial_cmp(&(around * around));
-            if m < FEWEST_NESTED || crowded.is_none_or(|o| o.is_gt()) {
+            let Some((level, inside)) = CUTS
+                .iter()
+                .find_map(|&cut| self.crowded(sample, cut, around))
+            else {
                 break;
-            }
-            levels.push(Level { spacing, ..level });
-            outer.get_or_insert((sample.len() - inside.len()) as f64 * per);
+            };
+            levels.push(level);
+            outer.get_or_insert((sample.len() - inside.len()) as f64 * self.per);
             nested = Some(inside);
         }
         // The first part then holds only the robots outside the second: cells for as
@@ -331,6 +317,44 @@ impl Sample {
             levels[0].spacing = first.spacing.max(longest / (2.0 * m.max(1.0).sqrt()));
         }
         levels
+    }
+
+    /// The box of `sample` between the ranks `len / cut` and `len - 1 - len / cut` of
+    /// each coordinate as a level, with the sampled robots it holds, if it holds
+    /// [`FEWEST_NESTED`] robots and they are [`CROWDED`] times as dense as cells of
+    /// spacing `around` are made for.
+    fn crowded(
+        &self,
+        sample: &[[f64; 2]],
+        cut: usize,
+        around: f64,
+    ) -> Option<(Level, Vec<[f64; 2]>)> {
+        let bounds = |a| ranked(sample, a, |len| [len / cut, len - 1 - len / cut]);
+        let ([x0, x1], [y0, y1]) = (bounds(0), bounds(1));
+        let level = Level {
+            lo: [x0, y0],
+            hi: [x1, y1],
+            spacing: 0.0,
+        };
+        let inside: Vec<[f64; 2]> = sample
+            .iter()
+            .copied()
+            .filter(|&[x, y]| level.holds_xy(x, y))
+            .collect();
+        let m = inside.len() as f64 * self.per;
+        let ext = [x1 - x0, y1 - y0];
+        let longest = ext[0].max(ext[1]);
+        let spacing = (ext[0] * ext[1] / m)
+            .sqrt()
+            .max(longest / (2.0 * m.sqrt()))
+            .max(longest * 1e-9)
+            .max(1e-300);
+        // (A NaN spacing is no crowding.)
+        let crowded = (spacing * spacing * CROWDED).partial_cmp(&(around * around));
+        if m < FEWEST_NESTED || crowded.is_none_or(|o| o.is_gt()) {
+            return None;
+        }
+        Some((Level { spacing, ..level }, inside))
     }
 }
 

@@ -82,6 +82,43 @@ fn a_crowded_core_gets_finer_nested_parts() {
     }
 }
 
+/// A core whose density falls off around it, as a converging swarm's does (measured at
+/// epoch 40 of the coarse ASYNC run at 10^5: 11,500 robots per unit area in the box
+/// between the 10th and 90th percentiles, 1,300 in the ring out to the 5th and 95th,
+/// 42 beyond): 72% of the robots in a square of side 1, 17% in a shell around it out
+/// to side 2, 7% out to side 6, 4% stragglers over side 60. The box between the 10th
+/// and 90th percentiles is about the core alone, and would leave the shell in the
+/// outer part, whose cells are sized for the few robots outside the nested box over
+/// the whole swarm: tens of robots to a cell, tested by every line through the
+/// shell. The wider box, between the 5th and 95th percentiles, takes the shell in.
+#[test]
+fn a_shell_around_the_core_is_nested_with_it() {
+    let mut rng = Stream::new(5, 0, 0, 0);
+    let mut pts: Vec<DVec2> = Vec::new();
+    let mut fill = |rng: &mut Stream, count: usize, lo: f64, side: f64, hole: (f64, f64)| {
+        let end = pts.len() + count;
+        while pts.len() < end {
+            let p = DVec2::new(lo + side * rng.uniform(), lo + side * rng.uniform());
+            let inside = |v: f64| (hole.0..=hole.1).contains(&v);
+            if !(inside(p.x) && inside(p.y)) {
+                pts.push(p);
+            }
+        }
+    };
+    fill(&mut rng, 14_400, 0.0, 1.0, (1.0, 0.0));
+    fill(&mut rng, 3_400, -0.5, 2.0, (0.0, 1.0));
+    fill(&mut rng, 1_400, -2.5, 6.0, (-0.5, 1.5));
+    fill(&mut rng, 800, -29.5, 60.0, (-2.5, 3.5));
+    let grid = SegmentGrid::new(&pts);
+    let levels = grid.levels();
+    let nested = &levels[1];
+    let held = pts.iter().filter(|p| nested.holds(*p)).count();
+    assert!(
+        held * 20 >= pts.len() * 17 && (0..2).all(|a| nested.lo[a] < -0.3 && nested.hi[a] > 1.3),
+        "{held} robots in {levels:?}"
+    );
+}
+
 /// The shortcut that spares an uncrowded swarm its deciles (its first nested box could
 /// be crowded only if the first cells were made for 16 times the quartile box's area
 /// per robot) never leaves out a part: the levels are those found without it, for
