@@ -105,6 +105,7 @@ fn a_shell_around_the_core_is_nested_with_it() {
             }
         }
     };
+    // (An empty hole for the core.)
     fill(&mut rng, 14_400, 0.0, 1.0, (1.0, 0.0));
     fill(&mut rng, 3_400, -0.5, 2.0, (0.0, 1.0));
     fill(&mut rng, 1_400, -2.5, 6.0, (-0.5, 1.5));
@@ -119,7 +120,7 @@ fn a_shell_around_the_core_is_nested_with_it() {
     );
 }
 
-/// The shortcut that spares an uncrowded swarm its deciles (its first nested box could
+/// The shortcut that spares an uncrowded swarm its percentiles (its first nested box could
 /// be crowded only if the first cells were made for 16 times the quartile box's area
 /// per robot) never leaves out a part: the levels are those found without it, for
 /// both limits on the cells, on a square of 100 robots whose core of 4000 more shrinks
