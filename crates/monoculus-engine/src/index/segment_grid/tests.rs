@@ -1,6 +1,7 @@
 //! The band grid against the definition.
 
 use super::*;
+use crate::index::{AtTick, Path};
 use glam::DVec2;
 use monoculus_core::rng::Stream;
 use monoculus_core::vision::{VisionParams, blocks};
@@ -266,14 +267,47 @@ fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
             pts[j] = q;
             pts[k] = on_line + normal * (side * 0.999 * drift);
             let mut grid = SegmentGrid::with_levels(&pts, &like.levels(), false);
-            // It is now on the line, a point again.
-            grid.set_disc(k, [on_line.x, on_line.y], 0.0);
             let mut now = pts.clone();
-            now[k] = on_line;
+            let tick = 1037;
+            if checked % 2 == 0 {
+                // It is now on the line, a point again.
+                grid.set_disc(k, [on_line.x, on_line.y], 0.0, None);
+                now[k] = on_line;
+            } else {
+                // It crosses the line in mid-move, there at tick 1,037 of its move from
+                // 1,000 to 1,100 (a third of the drift long, its disc around it), and
+                // the grid is told of its path.
+                let way = rng.uniform() * std::f64::consts::TAU;
+                let way = DVec2::new(way.cos(), way.sin()) * (drift / 3.0);
+                let path = Path {
+                    from: on_line - way * 0.37,
+                    to: on_line + way * 0.63,
+                    since: 1000,
+                    until: 1100,
+                };
+                let centre = (path.from + path.to) * 0.5;
+                let reach = (drift / 6.0) * (1.0 + 1e-9) + 1e-12;
+                grid.set_disc(
+                    k,
+                    [centre.x, centre.y],
+                    reach,
+                    Some(Path {
+                        from: [path.from.x, path.from.y],
+                        to: [path.to.x, path.to.y],
+                        since: path.since,
+                        until: path.until,
+                    }),
+                );
+                now[k] = path.at(tick);
+            }
             let expect = (0..now.len()).any(|r| r != i && r != j && blocks(p, now[r], q, &v));
             assert!(expect, "a robot on the line blocks");
+            let at = AtTick {
+                positions: &now,
+                tick,
+            };
             assert!(
-                grid.blocked(now.as_slice(), i, j, &v, drift),
+                grid.blocked(&at, i, j, &v, drift),
                 "{p} -> {q}: blocker held {} away",
                 0.999 * drift
             );
