@@ -396,7 +396,7 @@ fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
     use glam::DVec2;
     use monoculus_engine::SpatialIndex;
     use monoculus_engine::asynchrony::TickSight;
-    use monoculus_engine::index::{AtTick, Path, PlaneIndex};
+    use monoculus_engine::index::PlaneIndex;
     let v = VisionParams::default();
     let disc = |from: DVec2, to: DVec2| {
         let scale = from.abs().max(to.abs()).max_element();
@@ -431,55 +431,33 @@ fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
                     to
                 };
                 let (centre, reach) = disc(from, to);
-                // Ticks 1,000 to 1,100; every other robot without its path (as one the
-                // index was not told of, the walk places it through the positions).
-                let path = Path {
-                    from,
-                    to,
-                    since: 1000,
-                    until: 1100,
-                };
-                index.follow(k, centre, reach, (k % 2 == 0).then_some(path));
-                moves.push((k, path));
+                index.follow(k, centre, reach);
+                moves.push((k, from, to));
             }
-            let at = |tick: u64| {
+            let at = |f: f64| {
                 let mut now = pts.clone();
-                for &(k, path) in &moves {
-                    now[k] = path.at(tick);
+                for &(k, from, to) in &moves {
+                    now[k] = from + (to - from) * f;
                 }
                 now
             };
-            for tick in [1000, 1037, 1100] {
-                let now = at(tick);
-                let sight = TickSight::over(
-                    AtTick {
-                        positions: &now,
-                        tick,
-                    },
-                    &index,
-                    v,
-                );
+            for f in [0.0, 0.37, 1.0] {
+                let now = at(f);
+                let sight = TickSight::over(&now, &index, v);
                 agrees_with_the_definition(
-                    &format!("{name} seed {seed} ({one_tick}) at {tick}"),
+                    &format!("{name} seed {seed} ({one_tick}) at {f}"),
                     &sight,
                     &now,
                 );
             }
             // The robots arrived: each a point again, exactly where its move ended (as
             // the engine settles it, not where the interpolation at the last tick puts it).
-            let mut now = at(1100);
-            for &(k, path) in &moves {
-                index.follow(k, path.to, 0.0, None);
-                now[k] = path.to;
+            let mut now = at(1.0);
+            for &(k, _, to) in &moves {
+                index.follow(k, to, 0.0);
+                now[k] = to;
             }
-            let sight = TickSight::over(
-                AtTick {
-                    positions: &now,
-                    tick: 1100,
-                },
-                &index,
-                v,
-            );
+            let sight = TickSight::over(&now, &index, v);
             agrees_with_the_definition(&format!("{name} seed {seed} arrived"), &sight, &now);
             assert!(index.stale_robots() > 0, "{name}: some moves were too long");
         }

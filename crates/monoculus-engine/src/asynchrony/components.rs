@@ -5,7 +5,6 @@ use std::collections::BTreeMap;
 use bevy_ecs::prelude::*;
 
 use crate::IndexPoint;
-use crate::index::Path;
 
 /// Where a robot is in its cycle. The Look is instantaneous: it happens at the tick
 /// the Idle phase ends.
@@ -43,13 +42,7 @@ impl<P: IndexPoint> Timing<P> {
         if self.phase != Phase::Move || self.pending.is_none() || self.until <= self.since {
             return from;
         }
-        Path {
-            from,
-            to: self.target(from),
-            since: self.since,
-            until: self.until,
-        }
-        .at(tick)
+        interpolate(from, self.target(from), self.since, self.until, tick)
     }
 
     /// Where the move decided at the Look ends, for a robot whose phase started at
@@ -61,6 +54,14 @@ impl<P: IndexPoint> Timing<P> {
             None => from,
         }
     }
+}
+
+/// Where a move from `from` to `to` over the ticks `since..until` (`since < until`) is
+/// at `tick` (at or after `since`).
+#[inline]
+pub(crate) fn interpolate<P: IndexPoint>(from: P, to: P, since: u64, until: u64, tick: u64) -> P {
+    let f = (tick.min(until) - since) as f64 / (until - since) as f64;
+    from + (to - from) * f
 }
 
 /// The ASYNC clock, the agenda of phase ends, and epoch accounting.

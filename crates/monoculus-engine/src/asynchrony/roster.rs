@@ -3,6 +3,8 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
+use crate::index::prefetch;
+
 const ABSENT: u32 = u32::MAX;
 
 /// Robots with an item each (the robots in mid-move, say): insertion, removal by robot
@@ -119,6 +121,30 @@ impl<T> Roster<T> {
         match self.slot.get(robot) {
             ABSENT => None,
             at => Some(&self.items[at as usize].1),
+        }
+    }
+
+    /// Asks for where `robot` is in the list (a hint, no effect on results; nothing for
+    /// a roster kept in a map).
+    #[inline]
+    pub(crate) fn prefetch_slot(&self, robot: u32) {
+        if let Slots::Dense(v) = &self.slot
+            && let Some(at) = v.get(robot as usize)
+        {
+            prefetch(at);
+        }
+    }
+
+    /// Asks for the item of `robot`, if it is there (a hint, no effect on results: reads
+    /// where it is in the list, which [`Roster::prefetch_slot`] asks for).
+    #[inline]
+    pub(crate) fn prefetch_item(&self, robot: u32) {
+        if let Slots::Dense(v) = &self.slot
+            && let Some(item) = v
+                .get(robot as usize)
+                .and_then(|&at| self.items.get(at as usize))
+        {
+            prefetch(item);
         }
     }
 

@@ -7,10 +7,11 @@ use bevy_ecs::prelude::*;
 use monoculus_core::metrics::bounds;
 use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
 
+use super::components::interpolate;
 use super::roster::Roster;
 use super::{KeptShape, Timing};
 use crate::IndexPoint;
-use crate::index::{AtTick, Locate, Path, SpatialIndex, prefetch};
+use crate::index::{Locate, SpatialIndex, prefetch};
 use crate::resources::{Params, SightBackend, SnapshotSight};
 use crate::systems::build_sight;
 
@@ -50,20 +51,13 @@ struct Mover<P> {
 }
 
 impl<P: IndexPoint> Mover<P> {
-    /// Its move, from where it started.
-    #[inline]
-    fn path(&self, from: P) -> Path<P> {
-        Path {
-            from,
-            to: self.to,
-            since: self.since,
-            until: self.until,
-        }
-    }
-
     #[inline]
     fn at(&self, from: P, tick: u64) -> P {
-        self.path(from).at(tick)
+        if self.until <= self.since {
+            from
+        } else {
+            interpolate(from, self.to, self.since, self.until, tick)
+        }
     }
 
     /// A disc the robot, leaving `from`, stays in at every tick from `first` (at or
@@ -135,8 +129,7 @@ impl<P: IndexPoint> LookSight<P> {
             && timing.since <= m.last
         {
             let (centre, reach) = mover.disc(from, timing.since, m.last);
-            m.index
-                .follow(robot as usize, centre, reach, Some(mover.path(from)));
+            m.index.follow(robot as usize, centre, reach);
         }
     }
 
@@ -146,7 +139,7 @@ impl<P: IndexPoint> LookSight<P> {
         if let Some(m) = &mut self.moving
             && tick <= m.last
         {
-            m.index.follow(robot as usize, at, 0.0, None);
+            m.index.follow(robot as usize, at, 0.0);
         }
     }
 
@@ -255,9 +248,8 @@ impl<P: IndexPoint> LookSight<P> {
         index.allow(if last > tick { limit } else { 0.0 });
         if last > tick {
             for &(k, m) in self.movers.iter() {
-                let from = settled[k as usize];
-                let (centre, reach) = m.disc(from, tick, last);
-                index.follow(k as usize, centre, reach, Some(m.path(from)));
+                let (centre, reach) = m.disc(settled[k as usize], tick, last);
+                index.follow(k as usize, centre, reach);
             }
         }
         Some(Moving {
@@ -303,11 +295,12 @@ impl<P: IndexPoint> Locate<P> for Located<'_, P> {
         if let Some(p) = self.settled.get(k) {
             prefetch(p);
         }
+        self.movers.prefetch_slot(k as u32);
     }
 
     #[inline]
-    fn tick(&self) -> Option<u64> {
-        Some(self.tick)
+    fn prefetch_next(&self, k: usize) {
+        self.movers.prefetch_item(k as u32);
     }
 }
 
@@ -361,13 +354,12 @@ impl<'a, P: IndexPoint, L: Locate<P>> TickSight<'a, P, L> {
     }
 }
 
-impl<'a, P: IndexPoint> TickSight<'a, P, AtTick<'a, P>> {
-    /// A sight through the [moving](SpatialIndex::moving) `index` with the robots where
-    /// `at` puts them, each within the disc the index was given for it (or stale), and
-    /// on the path it was given at `at`'s tick: what ASYNC's Looks see, with the
-    /// positions given whole (for tests and benchmarks).
-    pub fn over(at: AtTick<'a, P>, index: &'a P::Index, vision: VisionParams) -> Self {
-        TickSight::new(at, at.positions.len(), index, vision)
+impl<'a, P: IndexPoint> TickSight<'a, P, &'a [P]> {
+    /// A sight through the [moving](SpatialIndex::moving) `index` with the robots at
+    /// `positions`, each within the disc the index was given for it (or stale): what
+    /// ASYNC's Looks see, with the positions given whole (for tests and benchmarks).
+    pub fn over(positions: &'a [P], index: &'a P::Index, vision: VisionParams) -> Self {
+        TickSight::new(positions, positions.len(), index, vision)
     }
 }
 

@@ -16,44 +16,10 @@ pub trait Locate<P>: Sync {
     /// Asks for what [`Locate::at`] reads of robot `k` (a hint, no effect on results).
     fn prefetch(&self, _k: usize) {}
 
-    /// The tick the positions are those of, where robots in mid-move are placed on
-    /// [paths](super::Path) a moving index was told of ([`SpatialIndex::follow`]):
-    /// its queries may then place them there themselves to rule them out.
-    ///
-    /// [`SpatialIndex::follow`]: super::SpatialIndex::follow
-    fn tick(&self) -> Option<u64> {
-        None
-    }
-}
-
-/// Positions given whole, at a tick: those of robots in mid-move on the paths a moving
-/// index was told of at that tick (for tests and benchmarks).
-#[derive(Clone, Copy, Debug)]
-pub struct AtTick<'a, P> {
-    /// Every robot's position.
-    pub positions: &'a [P],
-    /// The tick.
-    pub tick: u64,
-}
-
-impl<P: Copy + Sync> Locate<P> for AtTick<'_, P> {
-    #[inline(always)]
-    fn at(&self, k: usize) -> P {
-        self.positions[k]
-    }
-
-    fn as_slice(&self) -> Option<&[P]> {
-        Some(self.positions)
-    }
-
-    #[inline(always)]
-    fn prefetch(&self, k: usize) {
-        self.positions.prefetch(k)
-    }
-
-    fn tick(&self) -> Option<u64> {
-        Some(self.tick)
-    }
+    /// Asks for what [`Locate::at`] reads of robot `k` once what [`Locate::prefetch`]
+    /// asked for has arrived, where one read leads to the next (a robot in mid-move's
+    /// entry in a roster; a hint, no effect on results).
+    fn prefetch_next(&self, _k: usize) {}
 }
 
 impl<P: Copy + Sync> Locate<P> for [P] {
@@ -90,7 +56,7 @@ impl<P, T: Locate<P> + ?Sized> Locate<P> for &T {
     }
 
     #[inline(always)]
-    fn tick(&self) -> Option<u64> {
-        (**self).tick()
+    fn prefetch_next(&self, k: usize) {
+        (**self).prefetch_next(k)
     }
 }

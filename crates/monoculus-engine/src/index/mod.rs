@@ -5,7 +5,6 @@
 mod index_point;
 mod indexed_sight;
 mod locate;
-mod path;
 mod plane_index;
 mod segment_grid;
 mod space_index;
@@ -14,8 +13,7 @@ mod tube;
 
 pub use index_point::IndexPoint;
 pub use indexed_sight::IndexedSight;
-pub use locate::{AtTick, Locate};
-pub use path::Path;
+pub use locate::Locate;
 pub use plane_index::PlaneIndex;
 pub(crate) use segment_grid::prefetch;
 pub use segment_grid::{SegmentGrid, Stale};

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU8, Ordering};
 use glam::DVec2;
 use monoculus_core::vision::{VisionParams, blocks, visible_points_sweep_2d};
 
-use super::{Locate, Path, SegmentGrid, SpatialIndex, Stale, Tube, prefetch};
+use super::{Locate, SegmentGrid, SpatialIndex, Stale, Tube, prefetch};
 
 /// The band grid over a snapshot in the plane.
 pub struct PlaneIndex {
@@ -192,7 +192,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         self.moving.as_mut().expect("a moving index").limit = limit;
     }
 
-    fn follow(&mut self, k: usize, centre: DVec2, reach: f64, path: Option<Path<DVec2>>) {
+    fn follow(&mut self, k: usize, centre: DVec2, reach: f64) {
         let m = self.moving.as_mut().expect("a moving index");
         if self.stale.contains(k) {
             let x = self.stale.iter().position(|s| s == k).expect("listed");
@@ -215,17 +215,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         self.grid
             .get_mut()
             .expect("a moving index is built when made")
-            .set_disc(
-                k,
-                [centre.x, centre.y],
-                reach,
-                path.map(|p| Path {
-                    from: [p.from.x, p.from.y],
-                    to: [p.to.x, p.to.y],
-                    since: p.since,
-                    until: p.until,
-                }),
-            );
+            .set_disc(k, [centre.x, centre.y], reach);
     }
 
     /// Builds the grid, both layouts at once.

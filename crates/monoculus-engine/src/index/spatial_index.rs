@@ -5,7 +5,7 @@
 
 use monoculus_core::vision::VisionParams;
 
-use super::{Locate, Path};
+use super::Locate;
 
 /// An index over the positions of one snapshot, built on first use. Every query is given
 /// where the robots are (`pos`: the positions the index was made for, or, for a
@@ -55,11 +55,10 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
 
     /// Of a [moving](SpatialIndex::moving) index: robot `k` stays within `reach` of
     /// `centre` from now until the index is made again (a robot given no disc stays at
-    /// its point), on `path` if it is in mid-move (where the index may place it to rule
-    /// it out of a query asked at a [tick](Locate::tick); `None`: at rest). A disc
-    /// reaching farther than [allowed](SpatialIndex::allow) from the robot's point
-    /// makes it stale: tested one by one, until the index is made again.
-    fn follow(&mut self, _k: usize, _centre: P, _reach: f64, _path: Option<Path<P>>) {
+    /// its point). A disc reaching farther than [allowed](SpatialIndex::allow) from the
+    /// robot's point makes it stale: tested one by one, until the index is
+    /// made again.
+    fn follow(&mut self, _k: usize, _centre: P, _reach: f64) {
         unreachable!("only a moving index follows robots")
     }
 

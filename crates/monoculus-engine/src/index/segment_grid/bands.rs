@@ -139,31 +139,6 @@ pub(super) struct Bands {
     /// may be from its stored point, in the same order, padded like `coords` (see
     /// [`SegmentGrid::set_reach`]).
     pub(super) reach: Vec<f32>,
-    /// For a grid over moving robots (empty until one is given a path): the path of the
-    /// robot of each place, if it is in mid-move, in the same order (see
-    /// [`SegmentGrid::set_disc`]).
-    pub(super) paths: Vec<Stretch>,
-}
-
-/// A robot's move as a moving grid stores it: its ends relative to the swarm's lower
-/// corner in single precision, each off by at most 2^-24 of itself (and a rounding
-/// in double precision), and its ticks.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Stretch {
-    pub(super) from: [f32; 2],
-    pub(super) to: [f32; 2],
-    pub(super) since: u64,
-    pub(super) until: u64,
-}
-
-impl Stretch {
-    /// No move: the robot is at rest.
-    pub(super) const NONE: Stretch = Stretch {
-        from: [0.0; 2],
-        to: [0.0; 2],
-        since: u64::MAX,
-        until: 0,
-    };
 }
 
 impl Bands {
@@ -188,7 +163,6 @@ impl Bands {
             // Padded (see [`LANES`]) with points that pass no filter.
             coords: vec![[f32::NAN; 2]; points.len() + LANES],
             reach: Vec::new(),
-            paths: Vec::new(),
         };
         let across = 1 - run;
         let cell = |part: &Part, p: &P| {

@@ -40,22 +40,6 @@ impl Filter {
                 & ((rx * dy - ry * dx).abs() <= self.band))
     }
 
-    /// [`Filter::near_at`] for a robot that may be up to `room` from `(x, y)` (relative
-    /// to the swarm's corner), with more room for the rounding of this test's own
-    /// arithmetic on either.
-    #[inline(always)]
-    pub(super) fn near_around(&self, x: f64, y: f64, room: f64) -> bool {
-        let (rx, ry) = (x - self.origin[0], y - self.origin[1]);
-        let [dx, dy] = self.d;
-        let own = 1e-12 * (rx.abs() + ry.abs() + self.origin[0].abs() + self.origin[1].abs());
-        let room = (room + own) * self.len * (1.0 + 1e-9);
-        let along = rx * dx + ry * dy;
-        !self.single
-            | ((along > -self.slack - room)
-                & (along < self.along_max + room)
-                & ((rx * dy - ry * dx).abs() <= self.band + room))
-    }
-
     /// [`Filter::near`] for a robot that may be up to `reach` from its stored point
     /// (`along` and the cross product each move by at most `reach` times the line's
     /// length).

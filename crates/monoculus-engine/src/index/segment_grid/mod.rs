@@ -32,9 +32,7 @@ mod walk;
 
 use monoculus_core::geometry::Point;
 
-use bands::{BAND, Bands, CELL, Level, Stretch};
-
-use super::Path;
+use bands::{BAND, Bands, CELL, Level};
 pub(crate) use prefetch::prefetch;
 pub use stale::Stale;
 
@@ -99,16 +97,8 @@ impl SegmentGrid {
     /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of
     /// `centre`: the grid's line filter tests that disc in place of its point. The
     /// robot stays in its cell, so walks must be given as their drift how far from the
-    /// point the grid was built over the disc may reach. If it is in mid-move, `path`
-    /// is its move: a walk asked at a [tick](crate::index::Locate::tick) places it there
-    /// to rule it out before asking where it is (`None`: at rest).
-    pub fn set_disc(
-        &mut self,
-        k: usize,
-        centre: [f64; 2],
-        reach: f64,
-        path: Option<Path<[f64; 2]>>,
-    ) {
+    /// point the grid was built over the disc may reach.
+    pub fn set_disc(&mut self, k: usize, centre: [f64; 2], reach: f64) {
         // Rounded up, with room for the single-precision sum the filter takes (see
         // `Line::any_within`).
         let mut r = (reach * (1.0 + 1e-6)) as f32;
@@ -119,54 +109,15 @@ impl SegmentGrid {
             (centre[0] - self.lo[0]) as f32,
             (centre[1] - self.lo[1]) as f32,
         ];
-        let stretch = path.map_or(Stretch::NONE, |m| {
-            let at = |p: [f64; 2]| [(p[0] - self.lo[0]) as f32, (p[1] - self.lo[1]) as f32];
-            Stretch {
-                from: at(m.from),
-                to: at(m.to),
-                since: m.since,
-                until: m.until,
-            }
-        });
         for g in [&mut self.rows, &mut self.columns] {
             // Made when first needed: until then every robot is at its point.
             if g.reach.is_empty() {
                 g.reach = vec![0.0; g.coords.len()];
             }
-            if g.paths.is_empty() && path.is_some() {
-                g.paths = vec![Stretch::NONE; g.coords.len()];
-            }
             let s = g.place[k] as usize;
             g.coords[s] = stored;
             g.reach[s] = r;
-            if let Some(p) = g.paths.get_mut(s) {
-                *p = stretch;
-            }
         }
-    }
-
-    /// Where the robot of place `s` of layout `g` is at `tick`, if the grid was told
-    /// of its move ([`SegmentGrid::set_disc`]): relative to the swarm's lower corner,
-    /// by the same steps as [`Path::at`] from the stored ends, and how far that may be
-    /// from where [`Path::at`] puts it (the stored ends' rounding, 2^-24 of each
-    /// coordinate, and the arithmetic's, with a wide margin).
-    #[inline]
-    fn placed(&self, g: &Bands, s: usize, tick: u64) -> Option<(f64, f64, f64)> {
-        let m = g.paths.get(s)?;
-        if m.since == u64::MAX || tick < m.since {
-            return None;
-        }
-        let a = [f64::from(m.from[0]), f64::from(m.from[1])];
-        let b = [f64::from(m.to[0]), f64::from(m.to[1])];
-        let f = if m.until <= m.since {
-            0.0
-        } else {
-            (tick.min(m.until) - m.since) as f64 / (m.until - m.since) as f64
-        };
-        let (x, y) = (a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f);
-        let scale = a[0].abs() + a[1].abs() + b[0].abs() + b[1].abs();
-        let room = scale * 2f64.powi(-21) + 1e-12 * (scale + self.lo[0].abs() + self.lo[1].abs());
-        Some((x, y, room))
     }
 
     /// A grid over `points` in the box `[lo, hi]` (theirs) with cells `spacing` wide.

@@ -1,7 +1,6 @@
 //! The band grid against the definition.
 
 use super::*;
-use crate::index::{AtTick, Path};
 use glam::DVec2;
 use monoculus_core::rng::Stream;
 use monoculus_core::vision::{VisionParams, blocks};
@@ -267,53 +266,80 @@ fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
             pts[j] = q;
             pts[k] = on_line + normal * (side * 0.999 * drift);
             let mut grid = SegmentGrid::with_levels(&pts, &like.levels(), false);
+            // It is now on the line, a point again.
+            grid.set_disc(k, [on_line.x, on_line.y], 0.0);
             let mut now = pts.clone();
-            let tick = 1037;
-            if checked % 2 == 0 {
-                // It is now on the line, a point again.
-                grid.set_disc(k, [on_line.x, on_line.y], 0.0, None);
-                now[k] = on_line;
-            } else {
-                // It crosses the line in mid-move, there at tick 1,037 of its move from
-                // 1,000 to 1,100 (a third of the drift long, its disc around it), and
-                // the grid is told of its path.
-                let way = rng.uniform() * std::f64::consts::TAU;
-                let way = DVec2::new(way.cos(), way.sin()) * (drift / 3.0);
-                let path = Path {
-                    from: on_line - way * 0.37,
-                    to: on_line + way * 0.63,
-                    since: 1000,
-                    until: 1100,
-                };
-                let centre = (path.from + path.to) * 0.5;
-                let reach = (drift / 6.0) * (1.0 + 1e-9) + 1e-12;
-                grid.set_disc(
-                    k,
-                    [centre.x, centre.y],
-                    reach,
-                    Some(Path {
-                        from: [path.from.x, path.from.y],
-                        to: [path.to.x, path.to.y],
-                        since: path.since,
-                        until: path.until,
-                    }),
-                );
-                now[k] = path.at(tick);
-            }
+            now[k] = on_line;
             let expect = (0..now.len()).any(|r| r != i && r != j && blocks(p, now[r], q, &v));
             assert!(expect, "a robot on the line blocks");
-            let at = AtTick {
-                positions: &now,
-                tick,
-            };
             assert!(
-                grid.blocked(&at, i, j, &v, drift),
+                grid.blocked(now.as_slice(), i, j, &v, drift),
                 "{p} -> {q}: blocker held {} away",
                 0.999 * drift
             );
             checked += 1;
         }
     }
+}
+
+/// A moving grid whose robots' discs reach a line of sight by the hundred: more
+/// candidates than a walk holds at once, so that a batch of bands is confirmed in
+/// several goes. A robot in mid-move on the line, anywhere along it, is found (so
+/// neither the first candidates held nor the last are dropped), and a line with none
+/// on it is clear, as by the definition.
+#[test]
+fn a_walk_with_more_candidates_than_it_holds_finds_the_one_on_the_line() {
+    let v = VisionParams::default();
+    let mut rng = Stream::new(21, 0, 0, 0);
+    let mut found = 0;
+    for trial in 0..120 {
+        // 1,600 robots in a square of side 20: cells half a unit wide.
+        let mut pts: Vec<DVec2> = (0..1600)
+            .map(|_| DVec2::new(rng.uniform_in(0.0, 20.0), rng.uniform_in(0.0, 20.0)))
+            .collect();
+        let (i, j) = (0, 1);
+        pts[i] = DVec2::new(1.0, rng.uniform_in(8.0, 12.0));
+        pts[j] = DVec2::new(19.0, rng.uniform_in(8.0, 12.0));
+        let (p, q) = (pts[i], pts[j]);
+        let mut grid = SegmentGrid::moving(&pts, false);
+        let reach = 2.0 * grid.cell_size();
+        // Every other robot may be up to `reach` from its point, and is, off the line.
+        let mut now = pts.clone();
+        let normal = DVec2::new(p.y - q.y, q.x - p.x).normalize();
+        let mut near = Vec::new();
+        for k in 2..pts.len() {
+            grid.set_disc(k, [pts[k].x, pts[k].y], reach);
+            let angle = rng.uniform() * std::f64::consts::TAU;
+            now[k] = pts[k] + DVec2::new(angle.cos(), angle.sin()) * (0.9 * reach * rng.uniform());
+            if (now[k] - p).dot(normal).abs() < 1e-3 {
+                now[k] += normal * 2e-3;
+            }
+            let off = (pts[k] - p).dot(normal).abs();
+            let along = (pts[k] - p).dot(q - p) / (q - p).length_squared();
+            if off < 0.9 * reach && (0.05..0.95).contains(&along) {
+                near.push((k, p + (q - p) * along));
+            }
+        }
+        assert!(near.len() > 64, "{} robots near the line", near.len());
+        if trial % 4 > 0 {
+            // One of them is on the line now.
+            let (k, on_line) = near[rng.below(near.len())];
+            now[k] = on_line;
+        }
+        let expect = brute(&now, i, j, &v);
+        assert_eq!(
+            expect,
+            trial % 4 > 0,
+            "trial {trial}: the robot on the line blocks"
+        );
+        assert_eq!(
+            grid.blocked(now.as_slice(), i, j, &v, reach),
+            expect,
+            "trial {trial}: {p} -> {q}"
+        );
+        found += usize::from(expect);
+    }
+    assert_eq!(found, 90);
 }
 
 /// Lines of sight between random robots of a crowded swarm, inside the core, from it

@@ -69,7 +69,6 @@ impl SegmentGrid {
         // within `tube.tolerance() + drift`: the cells walked. A moving grid's filter
         // gives each robot its own reach; otherwise the filter allows the drift too.
         let reaching = !self.rows.reach.is_empty();
-        let tick = positions.tick();
         let tol = tube.tolerance() + if reaching { 0.0 } else { drift };
         let tol_cells = tube.tolerance() + drift;
         let d = q - p;
@@ -138,27 +137,21 @@ impl SegmentGrid {
             line: Line::new([rpx, rpy], [dx, dy], len, tol + 2.0 * err, extent),
         };
         let near = |c: &[f32; 2]| filter.near(c);
-        // The candidates of a moving grid (places whose disc came near the line), and
-        // whether one of them blocks: where its path puts it (if the grid knows it),
-        // then where it is now (through the robots in mid-move), by the cheap test, then
-        // the exact one.
+        // The candidates of a moving grid (robots whose disc came near the line), and
+        // whether one of them blocks: where each is now (a robot in mid-move found
+        // through a roster, one read leading to the next, each a cache miss at 10^5:
+        // asked for together), by the cheap test, then the exact one.
         const HELD: usize = 64;
         let mut held = [0u32; HELD];
         let mut count = 0;
-        let confirm = |places: &[u32]| {
-            places.iter().any(|&s| {
-                let s = s as usize;
-                let k = g.items[s] as usize;
-                k != i
-                    && k != j
-                    && tick
-                        .and_then(|t| self.placed(g, s, t))
-                        .is_none_or(|(x, y, room)| filter.near_around(x, y, room))
-                    && {
-                        let r = positions.at(k);
-                        let (x, y) = (r.axis(0) - self.lo[0], r.axis(1) - self.lo[1]);
-                        filter.near_at(x, y) && blocks(p, r, q, v)
-                    }
+        let confirm = |robots: &[u32]| {
+            for &k in robots {
+                positions.prefetch_next(k as usize);
+            }
+            robots.iter().any(|&k| {
+                let r = positions.at(k as usize);
+                let (x, y) = (r.axis(0) - self.lo[0], r.axis(1) - self.lo[1]);
+                filter.near_at(x, y) && blocks(p, r, q, v)
             })
         };
         // The ends lie on the line: the line filter leaves out their places in the
@@ -241,16 +234,17 @@ impl SegmentGrid {
                     let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
                     if reaching {
                         // A robot whose disc came near the line is a candidate, held
-                        // until the batch's bands are filtered, what it reads asked for
-                        // meanwhile (a cache miss each at 10^5).
+                        // until the batch's bands are filtered, what finding where it
+                        // is reads asked for meanwhile.
                         let mut hit = false;
                         let candidate = |s: usize| {
-                            if filter.near_within(&g.coords[s], g.reach[s]) {
-                                prefetch(&g.items[s]);
-                                if let Some(m) = g.paths.get(s) {
-                                    prefetch(m);
-                                }
-                                held[count] = s as u32;
+                            let k = g.items[s];
+                            if filter.near_within(&g.coords[s], g.reach[s])
+                                && k as usize != i
+                                && k as usize != j
+                            {
+                                positions.prefetch(k as usize);
+                                held[count] = k;
                                 count += 1;
                                 if count == HELD {
                                     hit = confirm(&held);
