@@ -5,6 +5,7 @@ use monoculus_core::vision::{VisionParams, blocks};
 
 use super::super::{IndexPoint, Locate, Tube};
 use super::SegmentGrid;
+use super::bands::Bands;
 use super::filter::{Filter, Line};
 use super::prefetch::prefetch;
 use super::slots::{float, lower, raise};
@@ -137,23 +138,6 @@ impl SegmentGrid {
             line: Line::new([rpx, rpy], [dx, dy], len, tol + 2.0 * err, extent),
         };
         let near = |c: &[f32; 2]| filter.near(c);
-        // The candidates of a moving grid (robots whose disc came near the line), and
-        // whether one of them blocks: where each is now (a robot in mid-move found
-        // through a roster, one read leading to the next, each a cache miss at 10^5:
-        // asked for together), by the cheap test, then the exact one.
-        const HELD: usize = 64;
-        let mut held = [0u32; HELD];
-        let mut count = 0;
-        let confirm = |robots: &[u32]| {
-            for &k in robots {
-                positions.prefetch_next(k as usize);
-            }
-            robots.iter().any(|&k| {
-                let r = positions.at(k as usize);
-                let (x, y) = (r.axis(0) - self.lo[0], r.axis(1) - self.lo[1]);
-                filter.near_at(x, y) && blocks(p, r, q, v)
-            })
-        };
         // The ends lie on the line: the line filter leaves out their places in the
         // layout (for a robot that moved since, its old place), sparing an exact pass
         // over the first and last slices without reading which robot each place holds.
@@ -229,38 +213,19 @@ impl SegmentGrid {
                     prefetch(&g.coords[slice.0]);
                     prefetch(&g.coords[slice.1]);
                 }
+                if reaching {
+                    if m > 0 {
+                        let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
+                        let line = (p, q, i, j);
+                        if self.any_reaching(g, &slices[..m], ends, &filter, positions, line, v) {
+                            return true;
+                        }
+                    }
+                    continue;
+                }
                 for &(s0, s1) in &slices[..m] {
                     // Candidates are rare: one branch-free pass over the slice first.
                     let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
-                    if reaching {
-                        // A robot whose disc came near the line is a candidate, held
-                        // until the batch's bands are filtered, what finding where it
-                        // is reads asked for meanwhile.
-                        let mut hit = false;
-                        let candidate = |s: usize| {
-                            let k = g.items[s];
-                            if filter.near_within(&g.coords[s], g.reach[s])
-                                && k as usize != i
-                                && k as usize != j
-                            {
-                                positions.prefetch(k as usize);
-                                held[count] = k;
-                                count += 1;
-                                if count == HELD {
-                                    hit = confirm(&held);
-                                    count = 0;
-                                }
-                            }
-                            hit
-                        };
-                        if filter
-                            .line
-                            .any_within(&g.coords, &g.reach, s0, s1, ends, candidate)
-                        {
-                            return true;
-                        }
-                        continue;
-                    }
                     if !filter.line.any(&g.coords, s0, s1, ends) {
                         continue;
                     }
@@ -275,17 +240,96 @@ impl SegmentGrid {
                         }
                     }
                 }
-                if count > 0 {
-                    if confirm(&held[..count]) {
-                        return true;
-                    }
-                    count = 0;
-                }
             }
         }
         false
     }
 }
+
+impl SegmentGrid {
+    /// Whether a robot of `slices` (a batch of bands) of a moving grid's layout `g`
+    /// blocks the view along `line` (from `p`, robot `i`, to `q`, robot `j`): those
+    /// whose disc came near the line (the line filter, then the cheap test) are the
+    /// candidates, asked where they are now, then by the cheap test and the exact one.
+    /// Finding where a robot is reads its slot in the roster of robots in mid-move,
+    /// its entry there and its settled point, one read leading to the next: in a swarm
+    /// too large for the caches the candidates are held until the batch is filtered,
+    /// those reads asked for meanwhile, so that their misses overlap.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments, reason = "the walk's state, passed on")]
+    fn any_reaching<P: IndexPoint, L: Locate<P> + ?Sized>(
+        &self,
+        g: &Bands,
+        slices: &[(usize, usize)],
+        ends: [u32; 2],
+        filter: &Filter,
+        positions: &L,
+        (p, q, i, j): (P, P, usize, usize),
+        v: &VisionParams,
+    ) -> bool {
+        let candidate = |s: usize| {
+            let k = g.items[s] as usize;
+            filter.near_within(&g.coords[s], g.reach[s]) && k != i && k != j
+        };
+        let found = |k: usize| {
+            let r = positions.at(k);
+            let (x, y) = (r.axis(0) - self.lo[0], r.axis(1) - self.lo[1]);
+            filter.near_at(x, y) && blocks(p, r, q, v)
+        };
+        let (coords, reach) = (&g.coords, &g.reach);
+        // Loops rather than iterator adaptors: called from the walk compiled for AVX2,
+        // an adaptor's body may be compiled apart from it, without.
+        if g.items.len() < HOLD_FROM {
+            for &(s0, s1) in slices {
+                let blocker = |s: usize| candidate(s) && found(g.items[s] as usize);
+                if filter.line.any_within(coords, reach, s0, s1, ends, blocker) {
+                    return true;
+                }
+            }
+            return false;
+        }
+        let mut held = [0u32; HELD];
+        let mut count = 0;
+        let confirm = |robots: &[u32]| {
+            for &k in robots {
+                positions.prefetch_next(k as usize);
+            }
+            for &k in robots {
+                if found(k as usize) {
+                    return true;
+                }
+            }
+            false
+        };
+        let mut hit = false;
+        for &(s0, s1) in slices {
+            let hold = |s: usize| {
+                if candidate(s) {
+                    let k = g.items[s];
+                    positions.prefetch(k as usize);
+                    held[count] = k;
+                    count += 1;
+                    if count == HELD {
+                        hit = confirm(&held);
+                        count = 0;
+                    }
+                }
+                hit
+            };
+            if filter.line.any_within(coords, reach, s0, s1, ends, hold) {
+                return true;
+            }
+        }
+        count > 0 && confirm(&held[..count])
+    }
+}
+
+/// The candidates a walk through a moving grid holds at once...
+const HELD: usize = 64;
+/// ...in a grid of at least this many robots (their positions and the roster of robots
+/// in mid-move larger than a core's second-level cache; measured in
+/// docs/performance.md).
+pub(super) const HOLD_FROM: usize = 1 << 15;
 
 /// The part of the parameter interval `t` (of `p + t d` on one axis) where the point is
 /// within `[lo, hi]` on that axis (empty: start above end).
