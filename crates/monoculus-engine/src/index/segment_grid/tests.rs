@@ -284,9 +284,9 @@ fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
 
 /// A moving grid whose robots' discs reach a line of sight by the hundred, in a swarm
 /// large enough for the walk to hold its candidates: more than it holds at once, so
-/// that a batch of bands is confirmed in several goes. A robot in mid-move on the line, anywhere along it, is found (so
-/// neither the first candidates held nor the last are dropped), and a line with none
-/// on it is clear, as by the definition.
+/// that a batch of bands is confirmed in several goes. A robot in mid-move on the
+/// line, anywhere along it, is found (so neither the first candidates held nor the
+/// last are dropped), and a line with none on it is clear, as by the definition.
 #[test]
 fn a_walk_with_more_candidates_than_it_holds_finds_the_one_on_the_line() {
     let v = VisionParams::default();

@@ -214,12 +214,9 @@ impl SegmentGrid {
                     prefetch(&g.coords[slice.1]);
                 }
                 if reaching {
-                    if m > 0 {
-                        let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
-                        let line = (p, q, i, j);
-                        if self.any_reaching(g, &slices[..m], ends, &filter, positions, line, v) {
-                            return true;
-                        }
+                    let line = (p, q, i, j);
+                    if m > 0 && self.any_reaching(g, &slices[..m], &filter, positions, line, v) {
+                        return true;
                     }
                     continue;
                 }
@@ -244,9 +241,7 @@ impl SegmentGrid {
         }
         false
     }
-}
 
-impl SegmentGrid {
     /// Whether a robot of `slices` (a batch of bands) of a moving grid's layout `g`
     /// blocks the view along `line` (from `p`, robot `i`, to `q`, robot `j`): those
     /// whose disc came near the line (the line filter, then the cheap test) are the
@@ -256,17 +251,17 @@ impl SegmentGrid {
     /// too large for the caches the candidates are held until the batch is filtered,
     /// those reads asked for meanwhile, so that their misses overlap.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments, reason = "the walk's state, passed on")]
     fn any_reaching<P: IndexPoint, L: Locate<P> + ?Sized>(
         &self,
         g: &Bands,
         slices: &[(usize, usize)],
-        ends: [u32; 2],
         filter: &Filter,
         positions: &L,
         (p, q, i, j): (P, P, usize, usize),
         v: &VisionParams,
     ) -> bool {
+        // The ends' places, which the line filter leaves out.
+        let ends = [g.place[i], g.place[j]];
         let candidate = |s: usize| {
             let k = g.items[s] as usize;
             filter.near_within(&g.coords[s], g.reach[s]) && k != i && k != j
