@@ -326,4 +326,36 @@ mod tests {
                 .contains("no robots")
         );
     }
+
+    #[test]
+    fn bad_trace_files_name_the_line() {
+        let bad = [
+            ("x,y\n1,2\n", "column round"),
+            (
+                "round,robot,x,y\n1,0,0,0\n",
+                ":2: column round: 1 out of order",
+            ),
+            (
+                "round,robot,x,y\n0,0,0,0\n0,2,0,0\n",
+                ":3: column robot: 2 out of order",
+            ),
+            (
+                "round,robot,x,y\n0,0,0,0\n0,1,1,1\n1,0,0,0\n2,0,0,0\n",
+                ":5: round 1 lists 1 robots",
+            ),
+            (
+                "round,robot,x,y\n0,0,0,0\n0,1,1,1\n1,0,0,0\n",
+                ":4: round 1 lists 1 robots",
+            ),
+            ("round,robot,x,y\n0,-1,0,0\n", ":2: column robot: `-1`"),
+            ("round,robot,x,y\n0,0,0,nan\n", ":2: column y"),
+        ];
+        for (text, want) in bad {
+            let e = parse_trace_positions(text, "t.csv")
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(want), "{text:?}: {e}");
+            assert!(e.starts_with("t.csv:"), "{e}");
+        }
+    }
 }
