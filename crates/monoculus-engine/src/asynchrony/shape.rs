@@ -77,6 +77,13 @@ impl<P: IndexPoint> KeptShape<P> {
         {
             return;
         }
+        self.track_beyond_core(robot, from, timing);
+    }
+
+    /// Sorts a mover whose segment is not certainly inside the core: between the core
+    /// and the hull, or outside.
+    fn track_beyond_core(&mut self, robot: u32, from: P, timing: Timing<P>) {
+        let to = timing.target(from);
         if Self::certainly_inside(from, to, |q| self.rest.in_hull(q)) {
             self.between.insert(robot, (from, timing));
         } else {
@@ -119,11 +126,12 @@ impl<P: IndexPoint> KeptShape<P> {
                 self.track(robot, from, timing);
             }
         } else if self.rest.shrinks() != self.seen.1 {
-            // A smaller hull: the movers that were inside it are looked at again.
+            // A smaller hull: the movers that were inside it are looked at again (against
+            // the same core, which they were not certainly inside).
             let between: Vec<_> = self.between.iter().copied().collect();
             self.between.clear();
             for (robot, (from, timing)) in between {
-                self.track(robot, from, timing);
+                self.track_beyond_core(robot, from, timing);
             }
         }
         self.seen = (self.rest.generation(), self.rest.shrinks());
