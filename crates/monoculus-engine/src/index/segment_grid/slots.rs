@@ -7,11 +7,8 @@
 #[inline]
 pub(super) fn slot(v: f64, origin: f64, inv: f64, last: f64) -> usize {
     let k = (v - origin) * inv;
-    if k > 0.0 {
-        (if k < last { k } else { last }) as i64 as usize
-    } else {
-        0
-    }
+    let k = if k > 0.0 { k } else { 0.0 };
+    (if k < last { k } else { last }) as i64 as usize
 }
 
 /// `b` if it is above `a`, else `a`: a bound only ever narrowed, never by a NaN (and
