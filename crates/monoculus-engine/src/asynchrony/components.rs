@@ -39,7 +39,7 @@ pub struct Timing<P: IndexPoint> {
 impl<P: IndexPoint> Timing<P> {
     /// The position at `tick` of a robot whose phase started at `from`.
     pub fn position_at(&self, from: P, tick: u64) -> P {
-        if self.phase != Phase::Move || self.pending.is_none() || self.until <= self.since {
+        if self.phase != Phase::Move || self.pending.is_none() {
             return from;
         }
         interpolate(from, self.target(from), self.since, self.until, tick)
@@ -56,10 +56,13 @@ impl<P: IndexPoint> Timing<P> {
     }
 }
 
-/// Where a move from `from` to `to` over the ticks `since..until` (`since < until`) is
-/// at `tick` (at or after `since`).
+/// Where a move from `from` to `to` over the ticks `since..until` is at `tick` (at or
+/// after `since`): `from` for a move of no ticks.
 #[inline]
 pub(crate) fn interpolate<P: IndexPoint>(from: P, to: P, since: u64, until: u64, tick: u64) -> P {
+    if until <= since {
+        return from;
+    }
     let f = (tick.min(until) - since) as f64 / (until - since) as f64;
     from + (to - from) * f
 }

@@ -53,11 +53,7 @@ struct Mover<P> {
 impl<P: IndexPoint> Mover<P> {
     #[inline]
     fn at(&self, from: P, tick: u64) -> P {
-        if self.until <= self.since {
-            from
-        } else {
-            interpolate(from, self.to, self.since, self.until, tick)
-        }
+        interpolate(from, self.to, self.since, self.until, tick)
     }
 
     /// A disc the robot, leaving `from`, stays in at every tick from `first` (at or

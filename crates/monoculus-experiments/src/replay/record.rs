@@ -35,7 +35,7 @@ pub fn record(
 
 struct Recorder<P> {
     replay: Replay,
-    drawn: Vec<usize>,
+    drawn: Drawn,
     record_looks: bool,
     vision: monoculus_core::vision::VisionParams,
     /// Round schedulers: the previous step's full positions and whether it got a frame.
@@ -63,15 +63,11 @@ impl<P: IndexPoint> Recorder<P> {
     }
 
     fn push_frame(&mut self, step: usize, now: &[P]) -> usize {
-        let mut positions = Vec::with_capacity(self.drawn.len() * P::DIM);
-        for &i in &self.drawn {
-            coords(&now[i], &mut positions);
-        }
         let frame = Frame {
             step,
             row: self.replay.metrics.step.len() - 1,
-            positions,
-            states: vec![State::Idle as u8; self.drawn.len()],
+            positions: self.drawn.coords(now),
+            states: vec![State::Idle as u8; self.drawn.robots.len()],
             bits: Vec::new(),
             hull: hull_of(now),
         };
@@ -156,12 +152,13 @@ impl<P: IndexPoint> Recorder<P> {
             .count() as u64;
         let Some(f) = frame else { return };
         let frame = &mut self.replay.frames[f];
-        for (k, &i) in self.drawn.iter().enumerate() {
+        for (k, &i) in self.drawn.robots.iter().enumerate() {
             frame.states[k] = State::from(views[i].activity) as u8;
         }
         if self.replay.termination {
             frame.bits = self
                 .drawn
+                .robots
                 .iter()
                 .map(|&i| views[i].memory.map_or(0, |m| m.bits))
                 .collect();
@@ -293,7 +290,7 @@ fn record_in<P: IndexPoint>(
     };
     let mut rec = Recorder {
         replay,
-        drawn: drawn.robots,
+        drawn,
         record_looks,
         vision: config.vision,
         previous: None,

@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 use monoculus_engine::IndexPoint;
 use monoculus_engine::resources::Shape;
 
-use super::{Drawn, Frame, Limits, Replay, State, coords, frame_bytes, hull_of, ordinal};
+use super::{Drawn, Frame, Limits, Replay, State, frame_bytes, hull_of, ordinal};
 use crate::positions::TracePositions;
 
 /// A replay of a `monoculus trace --positions` file: a frame per round, robots that move
@@ -47,14 +47,10 @@ fn from_trace_in<P: IndexPoint>(trace: &TracePositions, title: String, limits: L
         m.diameter.push(shape.diameter);
         m.moving.push((0..n).filter(|&i| moves(i)).count() as u64);
         if k.is_multiple_of(replay.stride) || k + 1 == rounds.len() {
-            let mut positions = Vec::with_capacity(drawn.robots.len() * P::DIM);
-            for &i in &drawn.robots {
-                coords(&now[i], &mut positions);
-            }
             let frame = Frame {
                 step: k,
                 row: k,
-                positions,
+                positions: drawn.coords(now),
                 states: drawn
                     .robots
                     .iter()

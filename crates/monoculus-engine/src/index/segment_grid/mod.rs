@@ -276,8 +276,9 @@ impl Sample {
     /// The levels of a grid's parts, the first given (the swarm's box), for a swarm
     /// whose [quartile box](Sample::quartile_box_area) has area `quartile` per robot.
     /// Where the robots of a box between two percentiles of each coordinate (of the
-    /// robots of the last box) are [`CROWDED`] times as dense as its cells are made for, that box becomes the next level, its cells sized for
-    /// its own robots; and so on, up to [`MOST_LEVELS`]. The boxes tried are those of
+    /// robots of the last box) are [`CROWDED`] times as dense as its cells are made
+    /// for, that box becomes the next level, its cells sized for its own robots; and so
+    /// on, up to [`MOST_LEVELS`]. The boxes tried are those of
     /// [`CUTS`], the widest first. A converging swarm packs most robots in a core a few
     /// units across while stragglers hold its box wide: cells sized for the box would
     /// hold hundreds of robots each. Its density falls off around the core, so that a
