@@ -111,11 +111,18 @@ impl Line {
             let Some(chunk) = coords.get(s..s + LANES) else {
                 return true;
             };
+            let near = |&[x, y]: &[f32; 2]| (nx * x + ny * y - c).abs() <= w;
+            // The ends pass only in the first and last slices: told apart there, when
+            // a chunk has passed, rather than in every chunk.
             let mut hit = false;
-            for (at, &[x, y]) in (s as u32..).zip(chunk) {
-                hit |= ((nx * x + ny * y - c).abs() <= w) & (at != ends[0]) & (at != ends[1]);
+            for p in chunk {
+                hit |= near(p);
             }
-            if hit {
+            if hit
+                && (s as u32..)
+                    .zip(chunk)
+                    .any(|(at, p)| near(p) && at != ends[0] && at != ends[1])
+            {
                 return true;
             }
             s += LANES;
@@ -157,17 +164,18 @@ impl Line {
             };
             let near = |lane: usize| {
                 let [x, y] = chunk[lane];
-                let at = (s + lane) as u32;
-                ((nx * x + ny * y - c).abs() <= w + room[lane]) & (at != ends[0]) & (at != ends[1])
+                (nx * x + ny * y - c).abs() <= w + room[lane]
             };
-            // Hits are rare: one branch-free pass first, then the lanes one by one.
+            // Hits are rare: one branch-free pass first, then the lanes one by one (the
+            // ends, which pass only in the first and last slices, told apart there).
             let mut hit = false;
             for lane in 0..LANES {
                 hit |= near(lane);
             }
             if hit {
                 for lane in 0..LANES.min(s1 - s) {
-                    if near(lane) && test(s + lane) {
+                    let at = (s + lane) as u32;
+                    if near(lane) && at != ends[0] && at != ends[1] && test(s + lane) {
                         return true;
                     }
                 }

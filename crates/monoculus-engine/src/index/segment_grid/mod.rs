@@ -20,6 +20,7 @@
 
 mod bands;
 mod beyond;
+mod crossing;
 mod filter;
 mod near;
 mod nearest;

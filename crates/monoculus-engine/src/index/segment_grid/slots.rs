@@ -6,7 +6,12 @@
 /// conversion of a clamped value: a third of the instructions of `as usize`.
 #[inline]
 pub(super) fn slot(v: f64, origin: f64, inv: f64, last: f64) -> usize {
-    let k = (v - origin) * inv;
+    clamped((v - origin) * inv, last)
+}
+
+/// The slot holding `k` in units of slots, clamped to `0..=last` (see [`slot`]).
+#[inline]
+pub(super) fn clamped(k: f64, last: f64) -> usize {
     let k = if k > 0.0 { k } else { 0.0 };
     (if k < last { k } else { last }) as i64 as usize
 }

@@ -6,9 +6,10 @@ use monoculus_core::vision::{VisionParams, blocks};
 use super::super::{IndexPoint, Locate, Tube};
 use super::SegmentGrid;
 use super::bands::Bands;
+use super::crossing::{Crossing, Track};
 use super::filter::{Filter, Line};
 use super::prefetch::prefetch;
-use super::slots::{float, lower, raise};
+use super::slots::{lower, raise};
 
 impl SegmentGrid {
     /// Whether some robot other than `i` and `j` blocks the view from `positions[i]` to
@@ -123,7 +124,13 @@ impl SegmentGrid {
             .max((pb + db).abs())
             + len;
         let steep = db.abs() * 1e12 >= da.abs();
-        let inv_slope = da / db;
+        let track = Track {
+            pa,
+            pb,
+            inv_slope: da / db,
+            tol_b,
+            scale,
+        };
         // Cheap filter: within twice the tube's radius of the line, strictly between p
         // and q (widened by the rounding of stored coordinates).
         let extent = self.hi[0] - self.lo[0] + self.hi[1] - self.lo[1] + 2.0 * drift;
@@ -142,6 +149,11 @@ impl SegmentGrid {
         // layout (for a robot that moved since, its old place), sparing an exact pass
         // over the first and last slices without reading which robot each place holds.
         let mut ends = None;
+        // Bands are taken a batch at a time: first where the line crosses each, then
+        // its slice's bounds, then its robots, each step prefetching what the next one
+        // reads, so that the cache misses of a batch overlap instead of adding up.
+        const BATCH: usize = 32;
+        let (mut cells, mut slices) = ([(0usize, 0usize); BATCH], [(0usize, 0usize); BATCH]);
         for (nested, part) in g.parts.iter().enumerate() {
             let (mut a_lo, mut a_hi, mut b_lo, mut b_hi) = (a_lo, a_hi, b_lo, b_hi);
             if nested > 0 {
@@ -170,42 +182,23 @@ impl SegmentGrid {
                 }
             }
             let (r0, r1) = (part.band(b_lo), part.band(b_hi));
-            // Bands are taken a batch at a time: first where the line crosses each, then
-            // its slice's bounds, then its robots, each step prefetching what the next
-            // one reads, so that the cache misses of a batch overlap instead of adding
-            // up.
-            const BATCH: usize = 32;
-            let mut cells = [(0usize, 0usize); BATCH];
+            // Where the line crosses each band, widened by `tol_b` (robots near a band
+            // edge may sit in either band after rounding: `tol` includes room for it).
+            let narrowed = (r0 < r1 && steep).then_some(&track);
+            let crossing = Crossing::new(part, (r0, r1), (a_lo, a_hi), narrowed, nested > 0);
             let mut r = r0;
             while r <= r1 {
                 let mut m = 0;
                 while r <= r1 && m < BATCH {
-                    let (mut lo, mut hi) = (a_lo, a_hi);
-                    if r0 < r1 && steep {
-                        // Where the line crosses band r, widened by `tol_b` (robots near
-                        // a band edge may sit in either band after rounding: `tol`
-                        // includes room for it).
-                        let edge0 = part.origin[1] + float(r) * part.height - tol_b;
-                        let edge1 = part.origin[1] + float(r + 1) * part.height + tol_b;
-                        let (t0, t1) = ((edge0 - pb) * inv_slope, (edge1 - pb) * inv_slope);
-                        let room = 64.0 * f64::EPSILON * (scale + t0.abs() + t1.abs());
-                        let (t_lo, t_hi) = if t1 < t0 { (t1, t0) } else { (t0, t1) };
-                        lo = raise(lo, pa + t_lo - room);
-                        hi = lower(hi, pa + t_hi + room);
-                    }
-                    // A nested part's robots lie in its box: a band crossed beside it
-                    // has none near the line.
-                    let beside = nested > 0 && ((hi < part.origin[0]) | (lo > part.top[0]));
-                    if lo <= hi && !beside {
+                    if let Some((c0, c1)) = crossing.cells(r) {
                         let row = part.row(r);
-                        cells[m] = (row + part.cell(lo), row + part.cell(hi) + 1);
+                        cells[m] = (row + c0, row + c1 + 1);
                         prefetch(&g.start[cells[m].0]);
                         prefetch(&g.start[cells[m].1]);
                         m += 1;
                     }
                     r += 1;
                 }
-                let mut slices = [(0usize, 0usize); BATCH];
                 for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
                     *slice = (g.start[c0] as usize, g.start[c1] as usize);
                     // A slice is a few robots: its first and last cache lines (the padding
