@@ -166,18 +166,20 @@ impl Line {
                 let [x, y] = chunk[lane];
                 (nx * x + ny * y - c).abs() <= w + room[lane]
             };
-            // Hits are rare: one branch-free pass first, then the lanes one by one (the
-            // ends, which pass only in the first and last slices, told apart there).
-            let mut hit = false;
+            // One branch-free pass gives the lanes that pass, then those are handed on
+            // one by one (the ends, which pass only in the first and last slices, told
+            // apart there).
+            let mut passed = 0u32;
             for lane in 0..LANES {
-                hit |= near(lane);
+                passed |= u32::from(near(lane)) << lane;
             }
-            if hit {
-                for lane in 0..LANES.min(s1 - s) {
-                    let at = (s + lane) as u32;
-                    if near(lane) && at != ends[0] && at != ends[1] && test(s + lane) {
-                        return true;
-                    }
+            passed &= (1 << LANES.min(s1 - s)) - 1;
+            while passed != 0 {
+                let lane = passed.trailing_zeros() as usize;
+                passed &= passed - 1;
+                let at = (s + lane) as u32;
+                if at != ends[0] && at != ends[1] && test(s + lane) {
+                    return true;
                 }
             }
             s += LANES;

@@ -13,10 +13,11 @@
 //! oracle (tested, also with blockers placed at the edge of the
 //! blocking cone across band edges).
 //!
-//! The grid in files: `bands` (the layout), the line-of-sight walk (`walk`)
-//! and its single-precision filter (`filter`), radius queries (`near`), the
-//! nearest-first iterator (`nearest`), robots beyond a radius (`beyond`), the set of
-//! robots that moved since the grid was built (`stale`), and the prefetch hint.
+//! The grid in files: `bands` (the layout), the line-of-sight walk (`walk`), the
+//! cells it reads in each band (`crossing`) and its single-precision filter
+//! (`filter`), radius queries (`near`), the nearest-first iterator (`nearest`), robots
+//! beyond a radius (`beyond`), the set of robots that moved since the grid was built
+//! (`stale`), and the prefetch hint.
 
 mod bands;
 mod beyond;
