@@ -220,12 +220,4 @@ impl Bands {
         let row = part.row(r);
         self.start[row + c0] as usize..self.start[row + c1 + 1] as usize
     }
-
-    /// The robots of band `r` of `part` in the cells meeting `[lo, hi]` on the run axis:
-    /// indices into `items` and `coords`.
-    #[inline]
-    pub(super) fn slice(&self, part: &Part, r: usize, lo: f64, hi: f64) -> std::ops::Range<usize> {
-        let row = part.row(r);
-        self.start[row + part.cell(lo)] as usize..self.start[row + part.cell(hi) + 1] as usize
-    }
 }

@@ -43,8 +43,10 @@ impl SegmentGrid {
     pub fn for_each_near(&self, x: f64, y: f64, radius: f64, f: &mut dyn FnMut(usize)) {
         let g = &self.rows;
         for part in self.parts_near(x, y, radius) {
+            // The same cells of every band.
+            let (c0, c1) = (part.cell(x - radius), part.cell(x + radius));
             for r in part.band(y - radius)..=part.band(y + radius) {
-                for s in g.slice(part, r, x - radius, x + radius) {
+                for s in g.cells_range(part, r, c0, c1) {
                     f(g.items[s] as usize);
                 }
             }
@@ -64,8 +66,9 @@ impl SegmentGrid {
             }
             let (low, mid, high) = (part.band(y - radius), part.band(y), part.band(y + radius));
             let bands = std::iter::once(mid).chain(low..mid).chain(mid + 1..=high);
+            let (c0, c1) = (part.cell(x - radius), part.cell(x + radius));
             for r in bands {
-                for s in g.slice(part, r, x - radius, x + radius) {
+                for s in g.cells_range(part, r, c0, c1) {
                     if out.len() >= most {
                         return;
                     }
@@ -110,8 +113,9 @@ impl SegmentGrid {
             du * du + dv * dv <= within * within
         };
         for part in self.parts_near(x, y, wide) {
+            let (c0, c1) = (part.cell(x - wide), part.cell(x + wide));
             for r in part.band(y - wide)..=part.band(y + wide) {
-                let slice = g.slice(part, r, x - wide, x + wide);
+                let slice = g.cells_range(part, r, c0, c1);
                 if g.reach.is_empty() {
                     for s in slice {
                         if near(s, drift) {
@@ -147,8 +151,9 @@ impl SegmentGrid {
         let [x, y] = g.coords[s].map(f64::from);
         let (ax, ay) = (x + self.lo[0], y + self.lo[1]);
         self.parts_near(ax, ay, reach).all(|part| {
+            let (c0, c1) = (part.cell(ax - reach), part.cell(ax + reach));
             (part.band(ay - reach)..=part.band(ay + reach)).all(|r| {
-                g.slice(part, r, ax - reach, ax + reach).all(|t| {
+                g.cells_range(part, r, c0, c1).all(|t| {
                     let [u, v] = g.coords[t].map(f64::from);
                     t == s || (u - x).abs() > reach || (v - y).abs() > reach
                 })
