@@ -2,6 +2,7 @@
 //! band after band by one multiply-add in units of the part's cells.
 
 use super::bands::Part;
+use super::prefetch::prefetch;
 use super::slots::{clamped, float, lower, raise};
 
 /// The line of sight as the walk sees it on the axes of a layout: along the run axis
@@ -153,7 +154,8 @@ impl Crossing {
 
     /// The cell of cell coordinate `k`, clamped to the part (a NaN gives 0): the same
     /// as [`clamped`], without the saturating conversion's tests (the value is in range
-    /// here, and rounding down is one instruction where the walk is compiled for AVX2).
+    /// here). Inlined into the walk compiled for AVX2, where rounding down is one
+    /// instruction (elsewhere a call).
     #[inline(always)]
     fn cell(&self, k: f64) -> usize {
         // Exact below 2^52: `whole + 2^52` holds `whole` in the low bits of its mantissa.
@@ -163,5 +165,31 @@ impl Crossing {
         let cell = ((k.floor() + SHIFT).to_bits() - SHIFT.to_bits()) as usize;
         debug_assert_eq!(cell, clamped(k, self.last));
         cell
+    }
+
+    /// Lays out the next bands from `*r` on (up to `r1`): for each the cells the walk
+    /// reads, as their first and one-past-last numbers in `start` (whose entries are
+    /// asked for), until `cells` is full; how many.
+    #[inline(always)]
+    pub(super) fn batch(
+        &self,
+        r: &mut usize,
+        r1: usize,
+        part: &Part,
+        start: &[u32],
+        cells: &mut [(usize, usize)],
+    ) -> usize {
+        let mut m = 0;
+        while *r <= r1 && m < cells.len() {
+            if let Some((c0, c1)) = self.cells(*r) {
+                let row = part.row(*r);
+                cells[m] = (row + c0, row + c1 + 1);
+                prefetch(&start[cells[m].0]);
+                prefetch(&start[cells[m].1]);
+                m += 1;
+            }
+            *r += 1;
+        }
+        m
     }
 }

@@ -151,7 +151,9 @@ impl SegmentGrid {
         let mut ends = None;
         // Bands are taken a batch at a time: first where the line crosses each, then
         // its slice's bounds, then its robots, each step prefetching what the next one
-        // reads, so that the cache misses of a batch overlap instead of adding up.
+        // reads, so that the cache misses of a batch overlap instead of adding up; and
+        // the next batch is laid out before this one's robots are read, so that its
+        // slices' bounds arrive meanwhile.
         const BATCH: usize = 32;
         let (mut cells, mut slices) = ([(0usize, 0usize); BATCH], [(0usize, 0usize); BATCH]);
         for (nested, part) in g.parts.iter().enumerate() {
@@ -187,18 +189,8 @@ impl SegmentGrid {
             let narrowed = (r0 < r1 && steep).then_some(&track);
             let crossing = Crossing::new(part, (r0, r1), (a_lo, a_hi), narrowed, nested > 0);
             let mut r = r0;
-            while r <= r1 {
-                let mut m = 0;
-                while r <= r1 && m < BATCH {
-                    if let Some((c0, c1)) = crossing.cells(r) {
-                        let row = part.row(r);
-                        cells[m] = (row + c0, row + c1 + 1);
-                        prefetch(&g.start[cells[m].0]);
-                        prefetch(&g.start[cells[m].1]);
-                        m += 1;
-                    }
-                    r += 1;
-                }
+            let mut m = crossing.batch(&mut r, r1, part, &g.start, &mut cells);
+            while m > 0 {
                 for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
                     *slice = (g.start[c0] as usize, g.start[c1] as usize);
                     // A slice is a few robots: its first and last cache lines (the padding
@@ -206,14 +198,16 @@ impl SegmentGrid {
                     prefetch(&g.coords[slice.0]);
                     prefetch(&g.coords[slice.1]);
                 }
+                let after = crossing.batch(&mut r, r1, part, &g.start, &mut cells);
+                let batch = std::mem::replace(&mut m, after);
                 if reaching {
                     let line = (p, q, i, j);
-                    if m > 0 && self.any_reaching(g, &slices[..m], &filter, positions, line, v) {
+                    if self.any_reaching(g, &slices[..batch], &filter, positions, line, v) {
                         return true;
                     }
                     continue;
                 }
-                for &(s0, s1) in &slices[..m] {
+                for &(s0, s1) in &slices[..batch] {
                     // Candidates are rare: one branch-free pass over the slice first.
                     let ends = *ends.get_or_insert_with(|| [g.place[i], g.place[j]]);
                     if !filter.line.any(&g.coords, s0, s1, ends) {
