@@ -135,9 +135,10 @@ impl Crossing {
         crossing
     }
 
-    /// The first and last cell the walk reads in band `r`, if any.
+    /// The first and last cell the walk reads in band `r`, if any; `FLOOR` where
+    /// rounding down is one instruction (see [`Crossing::cell`]).
     #[inline(always)]
-    pub(super) fn cells(&self, r: usize) -> Option<(usize, usize)> {
+    pub(super) fn cells<const FLOOR: bool>(&self, r: usize) -> Option<(usize, usize)> {
         let (mut lo, mut hi) = (self.lo, self.hi);
         if self.along {
             let x = self.x0 + float(r - self.r0) * self.step;
@@ -146,18 +147,21 @@ impl Crossing {
         }
         let beside = self.nested && ((hi < 0.0) | (lo > self.top));
         if lo <= hi && !beside {
-            Some((self.cell(lo), self.cell(hi)))
+            Some((self.cell::<FLOOR>(lo), self.cell::<FLOOR>(hi)))
         } else {
             None
         }
     }
 
     /// The cell of cell coordinate `k`, clamped to the part (a NaN gives 0): the same
-    /// as [`clamped`], without the saturating conversion's tests (the value is in range
-    /// here). Inlined into the walk compiled for AVX2, where rounding down is one
-    /// instruction (elsewhere a call).
+    /// as [`clamped`]. With `FLOOR` (the walk compiled for AVX2, where rounding down is
+    /// one instruction) without the saturating conversion's tests, the value being in
+    /// range here; else (rounding down a call) through that conversion.
     #[inline(always)]
-    fn cell(&self, k: f64) -> usize {
+    fn cell<const FLOOR: bool>(&self, k: f64) -> usize {
+        if !FLOOR {
+            return clamped(k, self.last);
+        }
         // Exact below 2^52: `whole + 2^52` holds `whole` in the low bits of its mantissa.
         const SHIFT: f64 = 4_503_599_627_370_496.0;
         let k = if k > 0.0 { k } else { 0.0 };
@@ -171,7 +175,7 @@ impl Crossing {
     /// reads, as their first and one-past-last numbers in `start` (whose entries are
     /// asked for), until `cells` is full; how many.
     #[inline(always)]
-    pub(super) fn batch(
+    pub(super) fn batch<const FLOOR: bool>(
         &self,
         r: &mut usize,
         r1: usize,
@@ -181,7 +185,7 @@ impl Crossing {
     ) -> usize {
         let mut m = 0;
         while *r <= r1 && m < cells.len() {
-            if let Some((c0, c1)) = self.cells(*r) {
+            if let Some((c0, c1)) = self.cells::<FLOOR>(*r) {
                 let row = part.row(*r);
                 cells[m] = (row + c0, row + c1 + 1);
                 prefetch(&start[cells[m].0]);

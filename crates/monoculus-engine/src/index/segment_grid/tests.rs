@@ -379,6 +379,13 @@ fn lines_of_sight_through_a_crowded_core_agree_with_the_definition() {
             expect,
             "{i} -> {j}"
         );
+        // The walk as compiled for a CPU without AVX2 (its cells found through the
+        // saturating conversion).
+        assert_eq!(
+            grid.walk::<false, _, _>(pts.as_slice(), i, j, &v, 0.0),
+            expect,
+            "{i} -> {j}, generic"
+        );
         // The same robots held a drift away, in a moving grid.
         let drift = like.cell_size() * 0.7;
         let base: Vec<DVec2> = pts
@@ -599,7 +606,8 @@ fn a_crossing_holds_the_cells_computed_afresh() {
                 );
                 for r in r0..=r1 {
                     let afresh = cells_afresh(part, &track, r, extent, narrowed, k > 0);
-                    let found = crossing.cells(r);
+                    let found = crossing.cells::<true>(r);
+                    assert_eq!(found, crossing.cells::<false>(r));
                     bands_checked += 1;
                     let Some((c0, c1)) = afresh else {
                         continue;

@@ -36,7 +36,7 @@ impl SegmentGrid {
             )]
             return unsafe { self.blocked_avx2(positions, i, j, v, drift) };
         }
-        self.walk(positions, i, j, v, drift)
+        self.walk::<false, _, _>(positions, i, j, v, drift)
     }
 
     /// [`Self::walk`] compiled for AVX2: the line filter tests eight robots per
@@ -51,12 +51,13 @@ impl SegmentGrid {
         v: &VisionParams,
         drift: f64,
     ) -> bool {
-        self.walk(positions, i, j, v, drift)
+        self.walk::<true, _, _>(positions, i, j, v, drift)
     }
 
-    /// The body of [`Self::blocked`].
+    /// The body of [`Self::blocked`]; `FLOOR` where rounding down is one instruction
+    /// (compiled for AVX2).
     #[inline(always)]
-    fn walk<P: IndexPoint, L: Locate<P> + ?Sized>(
+    pub(super) fn walk<const FLOOR: bool, P: IndexPoint, L: Locate<P> + ?Sized>(
         &self,
         positions: &L,
         i: usize,
@@ -189,7 +190,7 @@ impl SegmentGrid {
             let narrowed = (r0 < r1 && steep).then_some(&track);
             let crossing = Crossing::new(part, (r0, r1), (a_lo, a_hi), narrowed, nested > 0);
             let mut r = r0;
-            let mut m = crossing.batch(&mut r, r1, part, &g.start, &mut cells);
+            let mut m = crossing.batch::<FLOOR>(&mut r, r1, part, &g.start, &mut cells);
             while m > 0 {
                 for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
                     *slice = (g.start[c0] as usize, g.start[c1] as usize);
@@ -198,7 +199,7 @@ impl SegmentGrid {
                     prefetch(&g.coords[slice.0]);
                     prefetch(&g.coords[slice.1]);
                 }
-                let after = crossing.batch(&mut r, r1, part, &g.start, &mut cells);
+                let after = crossing.batch::<FLOOR>(&mut r, r1, part, &g.start, &mut cells);
                 let batch = std::mem::replace(&mut m, after);
                 if reaching {
                     let line = (p, q, i, j);
