@@ -4,7 +4,7 @@
 use monoculus_core::geometry::Point;
 
 use super::filter::LANES;
-use super::slots::slot;
+use super::slots::{clamped, slot};
 
 /// Band height and cell width, in units of the mean spacing sqrt(area / n): thinner
 /// bands test fewer robots per line in more slices (the choice is measured in
@@ -81,7 +81,14 @@ impl Part {
     /// The cell (along the run axis) of coordinate `v`, clamped to the part.
     #[inline]
     pub(super) fn cell(&self, v: f64) -> usize {
-        slot(v, self.origin[0], self.inv_width, self.last[0])
+        clamped(self.cell_at(v), self.last[0])
+    }
+
+    /// Coordinate `v` on the run axis in units of cells from the part's origin,
+    /// unclamped: [`Part::cell`] rounds it down.
+    #[inline]
+    pub(super) fn cell_at(&self, v: f64) -> f64 {
+        (v - self.origin[0]) * self.inv_width
     }
 
     /// The band of coordinate `v` across the run axis, clamped to the part.

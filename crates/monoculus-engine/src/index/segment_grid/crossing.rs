@@ -3,7 +3,7 @@
 
 use super::bands::Part;
 use super::prefetch::prefetch;
-use super::slots::{clamped, float, lower, raise};
+use super::slots::{clamped, float, lower, raise, within};
 
 /// The line of sight as the walk sees it on the axes of a layout: along the run axis
 /// `a` (its major axis) and across it `b`.
@@ -91,9 +91,9 @@ impl Crossing {
         line: Option<&Track>,
         nested: bool,
     ) -> Self {
-        // A coordinate in cells, as `Part::cell` takes it before clamping (so that a
-        // robot at `v >= a_lo` has a cell coordinate at least this one's).
-        let cells = |v: f64| (v - part.origin[0]) * part.inv_width;
+        // As `Part::cell` takes a coordinate before clamping, so that a robot at
+        // `v >= a_lo` has a cell coordinate at least this one's.
+        let cells = |v: f64| part.cell_at(v);
         let mut crossing = Crossing {
             r0,
             along: false,
@@ -164,8 +164,7 @@ impl Crossing {
         }
         // Exact below 2^52: `whole + 2^52` holds `whole` in the low bits of its mantissa.
         const SHIFT: f64 = 4_503_599_627_370_496.0;
-        let k = if k > 0.0 { k } else { 0.0 };
-        let k = if k < self.last { k } else { self.last };
+        let k = within(k, self.last);
         let cell = ((k.floor() + SHIFT).to_bits() - SHIFT.to_bits()) as usize;
         debug_assert_eq!(cell, clamped(k, self.last));
         cell

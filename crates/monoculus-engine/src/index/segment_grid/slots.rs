@@ -12,8 +12,14 @@ pub(super) fn slot(v: f64, origin: f64, inv: f64, last: f64) -> usize {
 /// The slot holding `k` in units of slots, clamped to `0..=last` (see [`slot`]).
 #[inline]
 pub(super) fn clamped(k: f64, last: f64) -> usize {
+    within(k, last) as i64 as usize
+}
+
+/// `k` clamped to `[0, last]` (a NaN gives 0).
+#[inline(always)]
+pub(super) fn within(k: f64, last: f64) -> f64 {
     let k = if k > 0.0 { k } else { 0.0 };
-    (if k < last { k } else { last }) as i64 as usize
+    if k < last { k } else { last }
 }
 
 /// `b` if it is above `a`, else `a`: a bound only ever narrowed, never by a NaN (and
