@@ -35,6 +35,8 @@ pub(crate) struct KeptHull<P> {
     /// Counts the times the hull shrank (what was found inside it must be looked at
     /// again).
     shrinks: u64,
+    /// Where the hull lost ground at its last shrink (see [`KeptHull::lost`]).
+    lost: Vec<(P, P)>,
     /// The points not strictly inside the core, by id.
     kept: Roster<P>,
     /// The hull of the kept points (once `ready`, unless `shrunk`).
@@ -107,6 +109,62 @@ fn in_box<P: IndexPoint>(boxed: Option<(P, P)>, p: P) -> bool {
     })
 }
 
+/// Closed boxes that hold every point strictly inside the convex polygon `before` and
+/// not strictly inside `after` (both as [`HullGeometry::hull_vertices`] gives them, in
+/// the plane).
+///
+/// The vertices of `before` that are still vertices of `after` span a convex polygon
+/// inside `after`; `before` is that polygon and the caps its chords cut off, each a
+/// stretch of lost vertices and the two kept ones at its ends. A point strictly inside
+/// `before` and outside every cap is in that polygon and not on its boundary (its
+/// edges are edges of `before`, which the point is not on, or chords, which lie in the
+/// caps), so it is strictly inside `after`. Each cap is given as its bounding box. With
+/// fewer than two vertices kept, or a degenerate polygon either side, the box of all of
+/// `before`.
+///
+/// [`HullGeometry::hull_vertices`]: monoculus_core::geometry::HullGeometry::hull_vertices
+fn lost_ground<P: IndexPoint>(before: &[P], after: &[P]) -> Vec<(P, P)> {
+    let key = |p: &P| (p.axis(0), p.axis(1));
+    let order = |a: &P, b: &P| {
+        let ((ax, ay), (bx, by)) = (key(a), key(b));
+        ax.total_cmp(&bx).then(ay.total_cmp(&by))
+    };
+    let mut sorted = after.to_vec();
+    sorted.sort_unstable_by(order);
+    let kept: Vec<bool> = before
+        .iter()
+        .map(|v| sorted.binary_search_by(|p| order(p, v)).is_ok())
+        .collect();
+    let h = before.len();
+    let Some(first) = kept.iter().position(|&k| k) else {
+        return if h == 0 {
+            Vec::new()
+        } else {
+            vec![monoculus_core::metrics::bounds(before)]
+        };
+    };
+    if P::DIM != 2 || h < 3 || after.len() < 3 || kept.iter().filter(|&&k| k).count() < 2 {
+        return vec![monoculus_core::metrics::bounds(before)];
+    }
+    // From each kept vertex followed by lost ones, through the next kept vertex.
+    let mut caps = Vec::new();
+    let mut cap: Vec<P> = Vec::new();
+    for step in 1..=h {
+        let (at, previous) = ((first + step) % h, (first + step - 1) % h);
+        if !kept[at] {
+            if cap.is_empty() {
+                cap.push(before[previous]);
+            }
+            cap.push(before[at]);
+        } else if !cap.is_empty() {
+            cap.push(before[at]);
+            caps.push(monoculus_core::metrics::bounds(&cap));
+            cap.clear();
+        }
+    }
+    caps
+}
+
 /// Points sampled to choose the core.
 const SAMPLE: usize = 4096;
 
@@ -120,6 +178,7 @@ impl<P: IndexPoint> KeptHull<P> {
             core_box: None,
             generation: 0,
             shrinks: 0,
+            lost: Vec::new(),
             kept: Roster::sparse(),
             hull: Vec::new(),
             hull_disc: inner_disc(&[]),
@@ -151,6 +210,14 @@ impl<P: IndexPoint> KeptHull<P> {
     /// vertex left.
     pub(crate) fn shrinks(&self) -> u64 {
         self.shrinks
+    }
+
+    /// Closed boxes (lowest corner, highest corner) that hold every point strictly
+    /// inside the hull before its last shrink and not strictly inside it after: each
+    /// covers a stretch of the old hull cut off by a chord between two vertices it
+    /// kept (see [`lost_ground`]).
+    pub(crate) fn lost(&self) -> &[(P, P)] {
+        &self.lost
     }
 
     /// The hull as last taken (the set's, after [`KeptHull::vertices`]).
@@ -208,7 +275,11 @@ impl<P: IndexPoint> KeptHull<P> {
         if self.ready && self.shrunk {
             self.shrinks += 1;
             let kept = &self.kept;
-            self.hull = P::hull_vertices(&P::hull_candidates_of(|| kept.iter().map(|&(_, p)| p)));
+            let before = std::mem::replace(
+                &mut self.hull,
+                P::hull_vertices(&P::hull_candidates_of(|| kept.iter().map(|&(_, p)| p))),
+            );
+            self.lost = lost_ground(&before, &self.hull);
             // Without a core every point is kept: the hull is the set's.
             self.ready = self.core.iter().all(|&q| P::strictly_inside(&self.hull, q));
         } else if self.ready && !self.grown.is_empty() {
@@ -295,7 +366,7 @@ impl<P: IndexPoint> KeptHull<P> {
 
 #[cfg(test)]
 mod tests {
-    use super::KeptHull;
+    use super::{KeptHull, lost_ground};
     use glam::DVec2;
     use monoculus_core::geometry::HullGeometry;
     use monoculus_core::rng::Stream;
@@ -365,5 +436,88 @@ mod tests {
             }
             assert!(rebuilds < 60, "{name}: the core is kept most of the time");
         }
+    }
+
+    /// Where a hull loses ground: every point strictly inside the hull before points
+    /// left and outside the boxes `lost_ground` gives is strictly inside the hull after
+    /// (the exact test on both), for random, lattice, collinear and stacked sets losing
+    /// a few points at a time, their outermost ones among them, tried at random points,
+    /// at the set's own points, and on the chords between the vertices kept.
+    #[test]
+    fn a_point_outside_the_lost_ground_stays_strictly_inside() {
+        let mut rng = Stream::new(12, 0, 0, 0);
+        let n = 300;
+        let sets: Vec<(&str, Vec<DVec2>)> = vec![
+            (
+                "random",
+                (0..n)
+                    .map(|_| DVec2::new(rng.uniform_in(-5.0, 5.0), rng.uniform_in(-5.0, 5.0)))
+                    .collect(),
+            ),
+            (
+                "lattice",
+                (0..n)
+                    .map(|k| DVec2::new((k % 20) as f64, (k / 20) as f64))
+                    .collect(),
+            ),
+            (
+                "line",
+                (0..n).map(|k| DVec2::new(k as f64 * 0.1, 2.0)).collect(),
+            ),
+            (
+                "stacked",
+                (0..n)
+                    .map(|k| DVec2::new((k % 7) as f64, (k % 5) as f64))
+                    .collect(),
+            ),
+        ];
+        let mut tested = 0;
+        for (name, points) in sets {
+            let mut present = vec![true; n];
+            for round in 0..60 {
+                let set = |present: &[bool]| -> Vec<DVec2> {
+                    (0..n).filter(|&k| present[k]).map(|k| points[k]).collect()
+                };
+                let before = DVec2::hull_vertices(&set(&present));
+                // A few points leave, often vertices of the hull.
+                for _ in 0..(1 + rng.below(4)) {
+                    let k = if rng.below(2) == 0 && !before.is_empty() {
+                        let v = before[rng.below(before.len())];
+                        (0..n).find(|&k| present[k] && points[k] == v).unwrap_or(0)
+                    } else {
+                        rng.below(n)
+                    };
+                    present[k] = false;
+                }
+                if present.iter().filter(|&&p| p).count() < 10 {
+                    present.iter_mut().for_each(|p| *p = true);
+                }
+                let after = DVec2::hull_vertices(&set(&present));
+                let lost = lost_ground(&before, &after);
+                let mut tries: Vec<DVec2> = points.clone();
+                let (lo, hi) = monoculus_core::metrics::bounds(&points);
+                tries.extend(
+                    (0..400).map(|_| {
+                        DVec2::new(rng.uniform_in(lo.x, hi.x), rng.uniform_in(lo.y, hi.y))
+                    }),
+                );
+                for (a, b) in after.iter().zip(after.iter().cycle().skip(1)) {
+                    tries.extend((1..8).map(|t| a.lerp(*b, f64::from(t) / 8.0)));
+                }
+                for p in tries {
+                    let outside_lost = !lost
+                        .iter()
+                        .any(|(lo, hi)| lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y);
+                    if DVec2::strictly_inside(&before, p) && outside_lost {
+                        tested += 1;
+                        assert!(
+                            DVec2::strictly_inside(&after, p),
+                            "{name} round {round}: {p} left the hull outside {lost:?}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(tested > 10_000, "{tested} points tried");
     }
 }

@@ -53,10 +53,7 @@ impl<P: IndexPoint> KeptShape<P> {
     /// an interpolation along it, lies strictly inside the polygon (`inside` its exact
     /// test): the corners of the boxes of that size around both ends do.
     fn certainly_inside(from: P, to: P, inside: impl Fn(P) -> bool) -> bool {
-        let scale = (0..P::DIM)
-            .map(|a| from.axis(a).abs().max(to.axis(a).abs()))
-            .fold(0.0, f64::max);
-        let e = 16.0 * f64::EPSILON * scale + f64::MIN_POSITIVE;
+        let e = Self::room(from, to);
         [from, to].into_iter().all(|p| {
             (0..1usize << P::DIM).all(|corner| {
                 let q = (0..P::DIM).fold(p, |q, a| {
@@ -64,6 +61,28 @@ impl<P: IndexPoint> KeptShape<P> {
                     q + P::unit_axis(a) * sign
                 });
                 inside(q)
+            })
+        })
+    }
+
+    /// How far around both ends of a mover's segment [`Self::certainly_inside`] tests.
+    fn room(from: P, to: P) -> f64 {
+        let scale = (0..P::DIM)
+            .map(|a| from.axis(a).abs().max(to.axis(a).abs()))
+            .fold(0.0, f64::max);
+        16.0 * f64::EPSILON * scale + f64::MIN_POSITIVE
+    }
+
+    /// Whether a point [`Self::certainly_inside`] tests for a mover's segment may lie
+    /// in one of the closed boxes `lost`: the box of both ends, widened by twice the
+    /// room (each tested point is an end moved by the room on every axis, rounded),
+    /// meets one of them.
+    fn may_meet(lost: &[(P, P)], from: P, to: P) -> bool {
+        let e = 2.0 * Self::room(from, to);
+        lost.iter().any(|(lo, hi)| {
+            (0..P::DIM).all(|a| {
+                let (x, y) = (from.axis(a), to.axis(a));
+                (x.min(y) - e <= hi.axis(a)) & (x.max(y) + e >= lo.axis(a))
             })
         })
     }
@@ -126,12 +145,20 @@ impl<P: IndexPoint> KeptShape<P> {
                 self.track(robot, from, timing);
             }
         } else if self.rest.shrinks() != self.seen.1 {
-            // A smaller hull: the movers that were inside it are looked at again (against
-            // the same core, which they were not certainly inside).
-            let between: Vec<_> = self.between.iter().copied().collect();
-            self.between.clear();
-            for (robot, (from, timing)) in between {
-                self.track_beyond_core(robot, from, timing);
+            // A smaller hull: the movers that were inside it where it lost ground are
+            // looked at again (against the same core, which they were not certainly
+            // inside); the others are still strictly inside it (`KeptHull::lost`).
+            let lost = self.rest.lost();
+            let again: Vec<u32> = self
+                .between
+                .iter()
+                .filter(|&&(_, (from, timing))| Self::may_meet(lost, from, timing.target(from)))
+                .map(|&(robot, _)| robot)
+                .collect();
+            for robot in again {
+                if let Some((from, timing)) = self.between.take(robot) {
+                    self.track_beyond_core(robot, from, timing);
+                }
             }
         }
         self.seen = (self.rest.generation(), self.rest.shrinks());
