@@ -22,6 +22,9 @@ use crate::IndexPoint;
 pub struct CommittedHull<P: IndexPoint> {
     kept: KeptHull<P>,
     measure: f64,
+    /// The hull's count of times taken when `measure` was (in the plane): while it
+    /// stays, the vertices and so the measure do.
+    measured: Option<u64>,
 }
 
 impl<P: IndexPoint> CommittedHull<P> {
@@ -30,6 +33,7 @@ impl<P: IndexPoint> CommittedHull<P> {
         CommittedHull {
             kept: KeptHull::new(),
             measure,
+            measured: None,
         }
     }
 
@@ -55,7 +59,13 @@ impl<P: IndexPoint> CommittedHull<P> {
     /// be taken over all of them.
     pub fn measure<I: Iterator<Item = (u32, P)>>(&mut self, all: impl Fn() -> I) -> f64 {
         self.measure = if P::DIM == 2 {
-            P::hull_measure(self.kept.vertices(all))
+            self.kept.vertices(all);
+            let taken = Some(self.kept.taken());
+            if taken == self.measured {
+                return self.measure;
+            }
+            self.measured = taken;
+            P::hull_measure(self.kept.hull())
         } else {
             P::hull_measure(&P::hull_candidates_of(|| all().map(|(_, p)| p)))
         };

@@ -37,6 +37,8 @@ pub(crate) struct KeptHull<P> {
     shrinks: u64,
     /// Where the hull lost ground at its last shrink (see [`KeptHull::lost`]).
     lost: Vec<(P, P)>,
+    /// Counts the times the hull was taken (see [`KeptHull::taken`]).
+    taken: u64,
     /// The points not strictly inside the core, by id.
     kept: Roster<P>,
     /// The hull of the kept points (once `ready`, unless `shrunk`).
@@ -179,6 +181,7 @@ impl<P: IndexPoint> KeptHull<P> {
             generation: 0,
             shrinks: 0,
             lost: Vec::new(),
+            taken: 0,
             kept: Roster::sparse(),
             hull: Vec::new(),
             hull_disc: inner_disc(&[]),
@@ -210,6 +213,12 @@ impl<P: IndexPoint> KeptHull<P> {
     /// vertex left.
     pub(crate) fn shrinks(&self) -> u64 {
         self.shrinks
+    }
+
+    /// Counts the times the hull was taken, over the kept points or the whole set: the
+    /// same count, the same vertices.
+    pub(crate) fn taken(&self) -> u64 {
+        self.taken
     }
 
     /// Closed boxes (lowest corner, highest corner) that hold every point strictly
@@ -272,6 +281,7 @@ impl<P: IndexPoint> KeptHull<P> {
         if !changed {
             return &self.hull;
         }
+        self.taken += 1;
         if self.ready && self.shrunk {
             self.shrinks += 1;
             let kept = &self.kept;
