@@ -58,17 +58,16 @@ impl<P: IndexPoint> CommittedHull<P> {
     /// point with its id (a pass made as often as needed), read only when the hull must
     /// be taken over all of them.
     pub fn measure<I: Iterator<Item = (u32, P)>>(&mut self, all: impl Fn() -> I) -> f64 {
-        self.measure = if P::DIM == 2 {
-            self.kept.vertices(all);
-            let taken = Some(self.kept.taken());
-            if taken == self.measured {
-                return self.measure;
-            }
+        if P::DIM != 2 {
+            self.measure = P::hull_measure(&P::hull_candidates_of(|| all().map(|(_, p)| p)));
+            return self.measure;
+        }
+        self.kept.vertices(all);
+        let taken = Some(self.kept.taken());
+        if taken != self.measured {
             self.measured = taken;
-            P::hull_measure(self.kept.hull())
-        } else {
-            P::hull_measure(&P::hull_candidates_of(|| all().map(|(_, p)| p)))
-        };
+            self.measure = P::hull_measure(self.kept.hull());
+        }
         self.measure
     }
 }

@@ -126,11 +126,8 @@ fn in_box<P: IndexPoint>(boxed: Option<(P, P)>, p: P) -> bool {
 ///
 /// [`HullGeometry::hull_vertices`]: monoculus_core::geometry::HullGeometry::hull_vertices
 fn lost_ground<P: IndexPoint>(before: &[P], after: &[P]) -> Vec<(P, P)> {
-    let key = |p: &P| (p.axis(0), p.axis(1));
-    let order = |a: &P, b: &P| {
-        let ((ax, ay), (bx, by)) = (key(a), key(b));
-        ax.total_cmp(&bx).then(ay.total_cmp(&by))
-    };
+    let order =
+        |a: &P, b: &P| (a.axis(0).total_cmp(&b.axis(0))).then(a.axis(1).total_cmp(&b.axis(1)));
     let mut sorted = after.to_vec();
     sorted.sort_unstable_by(order);
     let kept: Vec<bool> = before
@@ -138,16 +135,14 @@ fn lost_ground<P: IndexPoint>(before: &[P], after: &[P]) -> Vec<(P, P)> {
         .map(|v| sorted.binary_search_by(|p| order(p, v)).is_ok())
         .collect();
     let h = before.len();
-    let Some(first) = kept.iter().position(|&k| k) else {
+    if P::DIM != 2 || h < 3 || after.len() < 3 || kept.iter().filter(|&&k| k).count() < 2 {
         return if h == 0 {
             Vec::new()
         } else {
             vec![monoculus_core::metrics::bounds(before)]
         };
-    };
-    if P::DIM != 2 || h < 3 || after.len() < 3 || kept.iter().filter(|&&k| k).count() < 2 {
-        return vec![monoculus_core::metrics::bounds(before)];
     }
+    let first = kept.iter().position(|&k| k).unwrap_or(0);
     // From each kept vertex followed by lost ones, through the next kept vertex.
     let mut caps = Vec::new();
     let mut cap: Vec<P> = Vec::new();
@@ -376,20 +371,15 @@ impl<P: IndexPoint> KeptHull<P> {
 
 #[cfg(test)]
 mod tests {
-    use super::{KeptHull, lost_ground};
+    use super::{KeptHull, in_box, lost_ground};
     use glam::DVec2;
     use monoculus_core::geometry::HullGeometry;
     use monoculus_core::rng::Stream;
 
-    /// Points come and go (moved, as robots do, or dropped and added back), a few at a
-    /// time: after each batch the kept hull is the hull of the whole set, vertex for
-    /// vertex, on random, lattice, collinear and co-located sets, with the core taken
-    /// again over the set whenever the kept points no longer show it.
-    #[test]
-    fn the_kept_hull_is_the_hull_of_the_set() {
-        let mut rng = Stream::new(11, 0, 0, 0);
-        let n = 600;
-        let sets: Vec<(&str, Vec<DVec2>)> = vec![
+    /// `n` points each: random in a square, a lattice `width` points wide, on a line,
+    /// and stacked (many at each point of a small lattice).
+    fn sets(rng: &mut Stream, n: usize, width: usize) -> Vec<(&'static str, Vec<DVec2>)> {
+        vec![
             (
                 "random",
                 (0..n)
@@ -399,7 +389,7 @@ mod tests {
             (
                 "lattice",
                 (0..n)
-                    .map(|k| DVec2::new((k % 25) as f64, (k / 25) as f64))
+                    .map(|k| DVec2::new((k % width) as f64, (k / width) as f64))
                     .collect(),
             ),
             (
@@ -412,7 +402,18 @@ mod tests {
                     .map(|k| DVec2::new((k % 7) as f64, (k % 5) as f64))
                     .collect(),
             ),
-        ];
+        ]
+    }
+
+    /// Points come and go (moved, as robots do, or dropped and added back), a few at a
+    /// time: after each batch the kept hull is the hull of the whole set, vertex for
+    /// vertex, on random, lattice, collinear and co-located sets, with the core taken
+    /// again over the set whenever the kept points no longer show it.
+    #[test]
+    fn the_kept_hull_is_the_hull_of_the_set() {
+        let mut rng = Stream::new(11, 0, 0, 0);
+        let n = 600;
+        let sets = sets(&mut rng, n, 25);
         for (name, mut points) in sets {
             let mut kept = KeptHull::new();
             let mut present = vec![true; n];
@@ -457,30 +458,7 @@ mod tests {
     fn a_point_outside_the_lost_ground_stays_strictly_inside() {
         let mut rng = Stream::new(12, 0, 0, 0);
         let n = 300;
-        let sets: Vec<(&str, Vec<DVec2>)> = vec![
-            (
-                "random",
-                (0..n)
-                    .map(|_| DVec2::new(rng.uniform_in(-5.0, 5.0), rng.uniform_in(-5.0, 5.0)))
-                    .collect(),
-            ),
-            (
-                "lattice",
-                (0..n)
-                    .map(|k| DVec2::new((k % 20) as f64, (k / 20) as f64))
-                    .collect(),
-            ),
-            (
-                "line",
-                (0..n).map(|k| DVec2::new(k as f64 * 0.1, 2.0)).collect(),
-            ),
-            (
-                "stacked",
-                (0..n)
-                    .map(|k| DVec2::new((k % 7) as f64, (k % 5) as f64))
-                    .collect(),
-            ),
-        ];
+        let sets = sets(&mut rng, n, 20);
         let mut tested = 0;
         for (name, points) in sets {
             let mut present = vec![true; n];
@@ -515,9 +493,7 @@ mod tests {
                     tries.extend((1..8).map(|t| a.lerp(*b, f64::from(t) / 8.0)));
                 }
                 for p in tries {
-                    let outside_lost = !lost
-                        .iter()
-                        .any(|(lo, hi)| lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y);
+                    let outside_lost = !lost.iter().any(|&boxed| in_box(Some(boxed), p));
                     if DVec2::strictly_inside(&before, p) && outside_lost {
                         tested += 1;
                         assert!(
