@@ -391,6 +391,8 @@ fn fat_robots_are_seen_as_the_definition_says() {
 /// with short moves (within the limit: the queries widen by the drift, the line filter
 /// tests each disc), long ones (stale: onto others, between others, out of the grid's
 /// box), and robots that arrived (a point again, away from where the grid holds them).
+/// Each index but the first is made in the memory of the one before, done with (its
+/// robots followed, some stale, some asked whether they are alone), as ASYNC makes it.
 #[test]
 fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
     use glam::DVec2;
@@ -405,10 +407,17 @@ fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
     };
     // With and without nested parts over a crowded core (an index for one tick has
     // them; it is asked to follow robots here all the same).
+    let mut spare: Option<PlaneIndex> = None;
     for (seed, one_tick) in [(0, false), (1, false), (0, true)] {
         for (name, pts) in common::zoo(seed) {
             let n = pts.len();
-            let mut index = PlaneIndex::moving(pts.clone(), one_tick).unwrap();
+            let mut index = match spare.take() {
+                Some(old) => old
+                    .moving_again(|base| base.extend_from_slice(&pts), one_tick)
+                    .unwrap(),
+                None => PlaneIndex::moving(pts.clone(), one_tick).unwrap(),
+            };
+            assert_eq!(index.stale_robots(), 0, "{name}: made again, none is stale");
             let cell = index.cell_size();
             index.allow(2.0 * cell);
             let (lo, hi) = monoculus_core::metrics::bounds(&pts);
@@ -460,6 +469,33 @@ fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
             let sight = TickSight::over(&now, &index, v);
             agrees_with_the_definition(&format!("{name} seed {seed} arrived"), &sight, &now);
             assert!(index.stale_robots() > 0, "{name}: some moves were too long");
+            spare = Some(index);
         }
+    }
+}
+
+/// A moving index made again in the memory of one whose robots were all alone does not
+/// keep that answer: robots now sharing a point are not alone.
+#[test]
+fn a_moving_index_made_again_forgets_who_was_alone() {
+    use glam::DVec2;
+    use monoculus_engine::SpatialIndex;
+    use monoculus_engine::index::PlaneIndex;
+    let v = VisionParams::default();
+    let apart: Vec<DVec2> = (0..64)
+        .map(|k| DVec2::new((k % 8) as f64, (k / 8) as f64))
+        .collect();
+    let index = PlaneIndex::moving(apart.clone(), false).unwrap();
+    assert!((0..64).all(|k| index.alone(apart.as_slice(), &v, k)));
+    // Robot 2k + 1 on robot 2k.
+    let pairs: Vec<DVec2> = (0..64).map(|k| apart[k & !1]).collect();
+    let again = index
+        .moving_again(|base| base.extend_from_slice(&pairs), false)
+        .unwrap();
+    for k in 0..64 {
+        assert!(
+            !again.alone(pairs.as_slice(), &v, k),
+            "robot {k} shares its point"
+        );
     }
 }

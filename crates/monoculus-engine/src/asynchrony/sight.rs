@@ -199,16 +199,28 @@ impl<P: IndexPoint> LookSight<P> {
     /// all but half the stale limit of the robots in mid-move would have gone farther;
     /// every robot in mid-move is given its disc up to that tick.
     fn remake(&mut self, tick: u64, settled: &[P]) -> Option<Moving<P>> {
-        let rate = self.moving.take().map_or(f64::INFINITY, |m| {
+        let old = self.moving.take();
+        let rate = old.as_ref().map_or(f64::INFINITY, |m| {
             self.looks as f64 / (tick - m.made).max(1) as f64
         });
-        let mut base = settled.to_vec();
-        for &(k, m) in self.movers.iter() {
-            base[k as usize] = m.at(settled[k as usize], tick);
-        }
         let n = settled.len();
         let one_tick = rate * DRIFT_COST * LIMIT >= n as f64;
-        let mut index = P::Index::moving(base, one_tick)?;
+        let movers = &self.movers;
+        let fill = |base: &mut Vec<P>| {
+            base.extend_from_slice(settled);
+            for &(k, m) in movers.iter() {
+                base[k as usize] = m.at(settled[k as usize], tick);
+            }
+        };
+        // In the memory of the index it replaces.
+        let mut index = match old {
+            Some(old) => old.index.moving_again(fill, one_tick)?,
+            None => {
+                let mut base = Vec::with_capacity(n);
+                fill(&mut base);
+                P::Index::moving(base, one_tick)?
+            }
+        };
         let stale_limit = stale_limit(n);
         let limit = LIMIT * index.cell_size();
         let last = if one_tick {

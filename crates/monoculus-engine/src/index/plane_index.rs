@@ -177,6 +177,45 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         })
     }
 
+    fn moving_again(self, fill: impl FnOnce(&mut Vec<DVec2>), one_tick: bool) -> Option<Self> {
+        let (Some(moving), Some(grid)) = (self.moving, self.grid.into_inner()) else {
+            let mut positions = Vec::new();
+            fill(&mut positions);
+            return Self::moving(positions, one_tick);
+        };
+        let mut base = moving.base;
+        base.clear();
+        fill(&mut base);
+        let n = base.len();
+        let grid = (*grid).moving_again(&base, one_tick);
+        let mut stale = self.stale;
+        stale.empty(n);
+        let mut discs = moving.discs;
+        discs.clear();
+        // Not asked yet, of any robot.
+        let isolated = self
+            .isolated
+            .into_inner()
+            .filter(|known| known.len() == n)
+            .map_or_else(OnceLock::new, |known| {
+                for k in known.iter() {
+                    k.store(0, Ordering::Relaxed);
+                }
+                OnceLock::from(known)
+            });
+        Some(PlaneIndex {
+            grid: OnceLock::from(Box::new(grid)),
+            stale,
+            isolated,
+            moving: Some(Moving {
+                base,
+                limit: 0.0,
+                drift: 0.0,
+                discs,
+            }),
+        })
+    }
+
     fn points(&self) -> &[DVec2] {
         &self.moving.as_ref().expect("a moving index").base
     }

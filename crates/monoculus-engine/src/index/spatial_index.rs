@@ -37,6 +37,16 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
         None
     }
 
+    /// The index [`SpatialIndex::moving`] makes over the points `fill` writes into an
+    /// empty vector, made in the memory of `self`, a moving index over as many robots
+    /// that is done with: its arrays are emptied and filled again rather than freed and
+    /// allocated (under ASYNC the index is made again every few ticks).
+    fn moving_again(self, fill: impl FnOnce(&mut Vec<P>), one_tick: bool) -> Option<Self> {
+        let mut positions = Vec::new();
+        fill(&mut positions);
+        Self::moving(positions, one_tick)
+    }
+
     /// Of a [moving](SpatialIndex::moving) index: the side of its cells.
     fn cell_size(&self) -> f64 {
         unreachable!("only a moving index has cells to follow robots in")

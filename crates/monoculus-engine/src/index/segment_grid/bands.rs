@@ -128,6 +128,7 @@ impl Part {
 /// The first part covers the swarm's box. A crowded swarm has more, each over a box
 /// nested in the one before with cells of its own, finer size; a robot is held in the
 /// innermost part whose box holds it. A query asks every part whose box it meets.
+#[derive(Default)]
 pub(super) struct Bands {
     /// The axis a band runs along (0: x, 1: y); bands are stacked along the other.
     pub(super) run: usize,
@@ -144,55 +145,80 @@ pub(super) struct Bands {
     pub(super) coords: Vec<[f32; 2]>,
     /// For a grid over moving robots (empty otherwise): how far the robot of each place
     /// may be from its stored point, in the same order, padded like `coords` (see
-    /// [`SegmentGrid::set_reach`]).
+    /// [`SegmentGrid::set_disc`]).
     pub(super) reach: Vec<f32>,
 }
 
 impl Bands {
     /// A layout with a part per level (the first over the box of every point, each next
     /// one nested in the one before); `lo` (x, y) is the swarm's lower corner, origin
-    /// of the stored coordinates.
-    pub(super) fn new<P: Point>(points: &[P], run: usize, levels: &[Level], lo: [f64; 2]) -> Self {
-        let mut parts = Vec::with_capacity(levels.len());
+    /// of the stored coordinates. Made in the arrays of `spare` (a layout made before,
+    /// or an empty one), which are emptied and filled again: a grid made again and
+    /// again (ASYNC's moving index) neither allocates its arrays nor has the system
+    /// hand it their pages anew each time.
+    pub(super) fn new<P: Point>(
+        spare: Bands,
+        points: &[P],
+        run: usize,
+        levels: &[Level],
+        lo: [f64; 2],
+    ) -> Self {
+        let Bands {
+            mut parts,
+            mut start,
+            mut items,
+            mut place,
+            mut coords,
+            mut reach,
+            ..
+        } = spare;
+        parts.clear();
         let mut total = 0;
         for level in levels {
             let part = Part::new(level, run, total);
             total += part.cells * part.bands;
             parts.push(part);
         }
+        let n = points.len();
+        refill(&mut start, total + 1, 0);
+        // Padded like `coords`, with no robot.
+        refill(&mut items, n + LANES, u32::MAX);
+        refill(&mut place, n, 0);
+        // Padded (see [`LANES`]) with points that pass no filter.
+        refill(&mut coords, n + LANES, [f32::NAN; 2]);
+        // Until a robot is given a disc, every one is at its point.
+        reach.clear();
         let mut grid = Bands {
             run,
             parts,
-            start: vec![0; total + 1],
-            // Padded like `coords`, with no robot.
-            items: vec![u32::MAX; points.len() + LANES],
-            place: vec![0; points.len()],
-            // Padded (see [`LANES`]) with points that pass no filter.
-            coords: vec![[f32::NAN; 2]; points.len() + LANES],
-            reach: Vec::new(),
+            start,
+            items,
+            place,
+            coords,
+            reach,
         };
         let across = 1 - run;
         let cell = |part: &Part, p: &P| {
             (part.row(part.band(p.axis(across))) + part.cell(p.axis(run))) as u32
         };
-        let slot: Vec<u32> = if let [part] = &grid.parts[..] {
-            points.iter().map(|p| cell(part, p)).collect()
+        // Each robot's cell, held in `place` until its place there is known.
+        if let [part] = &grid.parts[..] {
+            for (slot, p) in grid.place.iter_mut().zip(points) {
+                *slot = cell(part, p);
+            }
         } else {
-            points
-                .iter()
-                .map(|p| {
-                    let level = levels[1..]
-                        .iter()
-                        .rposition(|l| l.holds(p))
-                        .map_or(0, |k| k + 1);
-                    cell(&grid.parts[level], p)
-                })
-                .collect()
-        };
+            for (slot, p) in grid.place.iter_mut().zip(points) {
+                let level = levels[1..]
+                    .iter()
+                    .rposition(|l| l.holds(p))
+                    .map_or(0, |k| k + 1);
+                *slot = cell(&grid.parts[level], p);
+            }
+        }
         // A counting sort with no second array of cells (a grid can have 16n of them):
         // each cell's end, then its robots placed from the last one down, which leaves
         // its start there and its robots ascending.
-        for &k in &slot {
+        for &k in &grid.place {
             grid.start[k as usize] += 1;
         }
         let mut end = 0;
@@ -201,9 +227,10 @@ impl Bands {
             *c = end;
         }
         grid.start[total] = end;
-        for (i, &k) in slot.iter().enumerate().rev() {
-            grid.start[k as usize] -= 1;
-            let at = grid.start[k as usize] as usize;
+        for i in (0..n).rev() {
+            let k = grid.place[i] as usize;
+            grid.start[k] -= 1;
+            let at = grid.start[k] as usize;
             grid.items[at] = i as u32;
             grid.place[i] = at as u32;
             grid.coords[at] = [
@@ -227,4 +254,10 @@ impl Bands {
         let row = part.row(r);
         self.start[row + c0] as usize..self.start[row + c1 + 1] as usize
     }
+}
+
+/// `v` emptied and filled with `len` copies of `value`, in the memory it has.
+fn refill<T: Copy>(v: &mut Vec<T>, len: usize, value: T) {
+    v.clear();
+    v.resize(len, value);
 }

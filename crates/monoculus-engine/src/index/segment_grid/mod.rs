@@ -64,24 +64,30 @@ pub struct SegmentGrid {
 impl SegmentGrid {
     /// A grid over the first two coordinates of `points`.
     pub fn new<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, false, MOST_CELLS, true)
+        Self::build(None, points, false, MOST_CELLS, true)
     }
 
     /// The same, its two layouts built at once on two threads of the current rayon
     /// pool. Not from inside a parallel section whose tasks may ask for this grid:
     /// a thread waiting on the second layout may run such a task meanwhile.
     pub fn new_parallel<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(points, true, MOST_CELLS, true)
+        Self::build(None, points, true, MOST_CELLS, true)
     }
 
     /// A grid with at most about `most` times as many cells per layout as robots, its
-    /// crowded core in nested parts if `nested`.
-    fn build<P: Point + Sync>(points: &[P], parallel: bool, most: f64, nested: bool) -> Self {
+    /// crowded core in nested parts if `nested`; in the arrays of `spare` if given.
+    fn build<P: Point + Sync>(
+        spare: Option<SegmentGrid>,
+        points: &[P],
+        parallel: bool,
+        most: f64,
+        nested: bool,
+    ) -> Self {
         let (first, sample, quartile) = first_level(points, most);
         if !nested {
-            return Self::with_levels(points, &[first], parallel);
+            return Self::with_levels(spare, points, &[first], parallel);
         }
-        Self::with_levels(points, &sample.levels(first, quartile), parallel)
+        Self::with_levels(spare, points, &sample.levels(first, quartile), parallel)
     }
 
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
@@ -93,7 +99,16 @@ impl SegmentGrid {
     /// walks must be given widens them by as many of its cells (in a nested part, by
     /// many more of the finer ones).
     pub fn moving<P: Point + Sync>(points: &[P], nested: bool) -> Self {
-        Self::build(points, true, MOST_MOVING_CELLS, nested)
+        Self::build(None, points, true, MOST_MOVING_CELLS, nested)
+    }
+
+    /// The same as [`SegmentGrid::moving`], made in the arrays of `self` (emptied and
+    /// filled again, none allocated): the grid of ASYNC's Looks is made again every
+    /// few ticks, and arrays freed and allocated each time were handed their pages
+    /// afresh by the system (measured in docs/performance.md). The grid is that of
+    /// [`SegmentGrid::moving`] (tested).
+    pub fn moving_again<P: Point + Sync>(self, points: &[P], nested: bool) -> Self {
+        Self::build(Some(self), points, true, MOST_MOVING_CELLS, nested)
     }
 
     /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of
@@ -114,7 +129,7 @@ impl SegmentGrid {
         for g in [&mut self.rows, &mut self.columns] {
             // Made when first needed: until then every robot is at its point.
             if g.reach.is_empty() {
-                g.reach = vec![0.0; g.coords.len()];
+                g.reach.resize(g.coords.len(), 0.0);
             }
             let s = g.place[k] as usize;
             g.coords[s] = stored;
@@ -131,18 +146,25 @@ impl SegmentGrid {
         hi: [f64; 2],
         parallel: bool,
     ) -> Self {
-        Self::with_levels(points, &[Level { lo, hi, spacing }], parallel)
+        Self::with_levels(None, points, &[Level { lo, hi, spacing }], parallel)
     }
 
-    /// A grid over `points` with a part per level, the first over their box.
-    fn with_levels<P: Point + Sync>(points: &[P], levels: &[Level], parallel: bool) -> Self {
+    /// A grid over `points` with a part per level, the first over their box; in the
+    /// arrays of `spare` if given.
+    fn with_levels<P: Point + Sync>(
+        spare: Option<SegmentGrid>,
+        points: &[P],
+        levels: &[Level],
+        parallel: bool,
+    ) -> Self {
         let Level { lo, hi, .. } = levels[0];
         let longest = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-        let layout = |run| Bands::new(points, run, levels, lo);
+        let (rows, columns) = spare.map_or_else(Default::default, |g| (g.rows, g.columns));
+        let layout = |spare, run| Bands::new(spare, points, run, levels, lo);
         let (rows, columns) = if parallel {
-            rayon::join(|| layout(0), || layout(1))
+            rayon::join(|| layout(rows, 0), || layout(columns, 1))
         } else {
-            (layout(0), layout(1))
+            (layout(rows, 0), layout(columns, 1))
         };
         SegmentGrid {
             rows,

@@ -19,6 +19,17 @@ impl Stale {
         }
     }
 
+    /// Empties the set, now for a swarm of `n`, in the memory it has.
+    pub fn empty(&mut self, n: usize) {
+        for &k in &self.list {
+            if let Some(w) = self.bits.get_mut(k as usize / 64) {
+                *w = 0;
+            }
+        }
+        self.list.clear();
+        self.bits.resize(n.div_ceil(64), 0);
+    }
+
     /// Whether robot `k` is in the set.
     #[inline]
     pub fn contains(&self, k: usize) -> bool {

@@ -47,7 +47,7 @@ impl SegmentGrid {
 
 /// A grid over `pts` with the parts of `like` (whose box must hold `pts`).
 fn grid_like(like: &SegmentGrid, pts: &[DVec2]) -> SegmentGrid {
-    SegmentGrid::with_levels(pts, &like.levels(), false)
+    SegmentGrid::with_levels(None, pts, &like.levels(), false)
 }
 
 #[test]
@@ -265,7 +265,7 @@ fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
             pts[i] = p;
             pts[j] = q;
             pts[k] = on_line + normal * (side * 0.999 * drift);
-            let mut grid = SegmentGrid::with_levels(&pts, &like.levels(), false);
+            let mut grid = SegmentGrid::with_levels(None, &pts, &like.levels(), false);
             // It is now on the line, a point again.
             grid.set_disc(k, [on_line.x, on_line.y], 0.0);
             let mut now = pts.clone();
@@ -400,7 +400,7 @@ fn lines_of_sight_through_a_crowded_core_agree_with_the_definition() {
                 }
             })
             .collect();
-        let moving = SegmentGrid::with_levels(&base, &like.levels(), false);
+        let moving = SegmentGrid::with_levels(None, &base, &like.levels(), false);
         assert_eq!(
             moving.blocked(pts.as_slice(), i, j, &v, drift),
             expect,
@@ -630,4 +630,67 @@ fn a_crossing_holds_the_cells_computed_afresh() {
         wider * 1000 < bands_checked,
         "{wider} of {bands_checked} wider"
     );
+}
+
+/// Whether two layouts hold the same parts, cells, robots and stored points (bit for
+/// bit, the padding's NaNs included) and reaches.
+fn same_layout(a: &Bands, b: &Bands) -> bool {
+    let bits = |g: &Bands| -> Vec<[u32; 2]> {
+        g.coords
+            .iter()
+            .map(|c| [c[0].to_bits(), c[1].to_bits()])
+            .collect()
+    };
+    let reach = |g: &Bands| -> Vec<u32> { g.reach.iter().map(|r| r.to_bits()).collect() };
+    a.run == b.run
+        && format!("{:?}", a.parts) == format!("{:?}", b.parts)
+        && a.start == b.start
+        && a.items == b.items
+        && a.place == b.place
+        && bits(a) == bits(b)
+        && reach(a) == reach(b)
+}
+
+/// A moving grid made again in the arrays of one done with (of other robots, more or
+/// fewer, with or without nested parts, with discs) is the grid made afresh: on
+/// random, crowded, lattice and collinear swarms, in turn.
+#[test]
+fn a_grid_made_again_in_the_arrays_of_another_is_the_one_made_afresh() {
+    let mut rng = Stream::new(17, 0, 0, 0);
+    let lattice: Vec<DVec2> = (0..900)
+        .map(|k| DVec2::new((k % 30) as f64, (k / 30) as f64))
+        .collect();
+    let line: Vec<DVec2> = (0..300).map(|k| DVec2::splat(k as f64 * 0.25)).collect();
+    let swarms = [
+        crowded_square(&mut rng),
+        pinned_square(&mut rng),
+        lattice,
+        crowded_square(&mut rng),
+        line,
+        pinned_square(&mut rng),
+    ];
+    let mut used: Option<SegmentGrid> = None;
+    for (t, pts) in swarms.iter().enumerate() {
+        let nested = t % 2 == 0;
+        let fresh = SegmentGrid::moving(pts, nested);
+        let mut grid = match used.take() {
+            Some(old) => old.moving_again(pts, nested),
+            None => SegmentGrid::moving(pts, nested),
+        };
+        assert!(grid.rows.reach.is_empty(), "swarm {t}: no disc yet");
+        for (a, b) in [(&grid.rows, &fresh.rows), (&grid.columns, &fresh.columns)] {
+            assert!(same_layout(a, b), "swarm {t}, run {}", a.run);
+        }
+        assert_eq!(
+            (grid.lo, grid.hi, grid.rounding.to_bits(), grid.single),
+            (fresh.lo, fresh.hi, fresh.rounding.to_bits(), fresh.single),
+            "swarm {t}"
+        );
+        // Discs for some robots, to be emptied when the grid is made again.
+        for k in (0..pts.len()).step_by(7) {
+            grid.set_disc(k, [pts[k].x + 0.1, pts[k].y], 0.25);
+        }
+        assert_eq!(grid.rows.reach.len(), grid.rows.coords.len());
+        used = Some(grid);
+    }
 }
