@@ -165,6 +165,11 @@ impl<T> Roster<T> {
     pub(crate) fn iter(&self) -> impl Iterator<Item = &(u32, T)> {
         self.items.iter()
     }
+
+    /// The same, as a slice.
+    pub(crate) fn as_slice(&self) -> &[(u32, T)] {
+        &self.items
+    }
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use std::sync::OnceLock;
 use bevy_ecs::prelude::*;
 use monoculus_core::metrics::bounds;
 use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
+use rayon::prelude::*;
 
 use super::components::interpolate;
 use super::roster::Roster;
@@ -94,6 +95,9 @@ const LIMIT: f64 = 2.0;
 /// either side, and robots in mid-move are candidates more often), in robots' worth of
 /// making the index (measured: about 3,000 instructions a Look against 280 a robot).
 const DRIFT_COST: f64 = 11.0;
+
+/// Robots in mid-move from which a new grid's work on them is shared between threads.
+const PARALLEL_MOVERS: usize = 4096;
 
 /// Stale robots beyond which the moving index is made again (they are tested one by
 /// one in every query): n / 64, between 8 and 64.
@@ -231,19 +235,27 @@ impl<P: IndexPoint> LookSight<P> {
             // plus room for rounding). A mover's disc reaches as far from its point now
             // as the way it goes.
             let within = limit * (1.0 - 1e-6);
-            let mut passing: Vec<u64> = self
-                .movers
-                .iter()
-                .filter_map(|&(k, m)| {
-                    let from = settled[k as usize];
-                    if 2.0 * m.disc(from, tick, m.until).1 <= within {
-                        return None;
-                    }
-                    let length = (m.to - from).length();
-                    let ticks = within / length * (m.until - m.since) as f64;
-                    Some(tick.saturating_add(ticks as u64))
-                })
-                .collect();
+            let passes = |&(k, m): &(u32, Mover<P>)| {
+                let from = settled[k as usize];
+                if 2.0 * m.disc(from, tick, m.until).1 <= within {
+                    return None;
+                }
+                let length = (m.to - from).length();
+                let ticks = within / length * (m.until - m.since) as f64;
+                Some(tick.saturating_add(ticks as u64))
+            };
+            // On both threads where the robots in mid-move are many (the late epochs of
+            // fine-grained runs make a grid every two ticks).
+            let movers = self.movers.as_slice();
+            let mut passing: Vec<u64> = if movers.len() >= PARALLEL_MOVERS {
+                movers
+                    .par_iter()
+                    .with_min_len(1024)
+                    .filter_map(passes)
+                    .collect()
+            } else {
+                movers.iter().filter_map(passes).collect()
+            };
             let allowed = stale_limit / 2;
             if passing.len() <= allowed {
                 u64::MAX
