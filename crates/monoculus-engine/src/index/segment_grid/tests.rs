@@ -32,6 +32,13 @@ fn crowded_square(rng: &mut Stream) -> Vec<DVec2> {
     pts
 }
 
+/// 900 robots on the unit lattice, 30 by 30.
+fn lattice_30() -> Vec<DVec2> {
+    (0..900)
+        .map(|k| DVec2::new((k % 30) as f64, (k / 30) as f64))
+        .collect()
+}
+
 impl SegmentGrid {
     /// The levels of the grid's parts.
     fn levels(&self) -> Vec<Level> {
@@ -536,9 +543,7 @@ fn cells_afresh(
 #[test]
 fn a_crossing_holds_the_cells_computed_afresh() {
     let mut rng = Stream::new(21, 0, 0, 0);
-    let lattice: Vec<DVec2> = (0..900)
-        .map(|k| DVec2::new((k % 30) as f64, (k / 30) as f64))
-        .collect();
+    let lattice = lattice_30();
     let (mut bands_checked, mut wider) = (0usize, 0usize);
     for (swarm, shift) in [
         (pinned_square(&mut rng), 0.0),
@@ -657,9 +662,7 @@ fn same_layout(a: &Bands, b: &Bands) -> bool {
 #[test]
 fn a_grid_made_again_in_the_arrays_of_another_is_the_one_made_afresh() {
     let mut rng = Stream::new(17, 0, 0, 0);
-    let lattice: Vec<DVec2> = (0..900)
-        .map(|k| DVec2::new((k % 30) as f64, (k / 30) as f64))
-        .collect();
+    let lattice = lattice_30();
     let line: Vec<DVec2> = (0..300).map(|k| DVec2::splat(k as f64 * 0.25)).collect();
     let swarms = [
         crowded_square(&mut rng),
