@@ -1,6 +1,7 @@
 //! The systems of one ASYNC event tick, in the order of [`AsyncSet`].
 
 use bevy_ecs::prelude::*;
+use bevy_ecs::query::QueryData;
 use monoculus_core::algorithms::RobotMemory;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
@@ -57,20 +58,6 @@ fn spec(params: &Params) -> AsyncSpec {
     }
 }
 
-fn go_idle<P: IndexPoint>(
-    params: &Params,
-    clock: &mut AsyncClock,
-    robot: u32,
-    timing: &mut Timing<P>,
-) {
-    let t = clock.tick;
-    clock.completed.push((robot, timing.looked));
-    timing.phase = Phase::Idle;
-    timing.since = t;
-    timing.until = t + duration(params, robot, timing.cycle, IDLE, spec(params).idle);
-    clock.schedule(timing.until, robot);
-}
-
 /// Advance: the next tick with phase ends, its robots sorted by the phase that ends.
 pub fn advance<P: IndexPoint>(
     mut clock: ResMut<AsyncClock>,
@@ -99,20 +86,38 @@ pub fn finish_moves<P: IndexPoint>(
 ) {
     let t = clock.tick;
     let ending = clock.take_ending(Phase::Move);
+    // Each robot's next clock (where it arrives, its Idle phase drawn from its own
+    // stream), on both threads on a crowded tick; then, in robot order, the agenda.
+    let idle = spec(&params).idle;
+    let points = &positions.points;
     let mut arrived: Vec<(u32, P)> = Vec::new();
-    for &r in &ending {
-        let mut timing = robots
-            .get_mut(entities.0[r as usize])
-            .expect("robot entity");
-        if timing.pending.is_some() {
-            let target = timing.target(positions.points[r as usize]);
-            positions.points[r as usize] = target;
-            arrived.push((r, target));
-            clock.move_ended = true;
-            clock.in_motion -= 1;
+    update_robots(
+        &mut robots,
+        &entities,
+        &ending,
+        |_, r, mut timing| {
+            let arrival = timing.pending.map(|_| timing.target(points[r as usize]));
+            let looked = timing.looked;
             timing.pending = None;
-        }
-        go_idle(&params, &mut clock, r, &mut timing);
+            timing.phase = Phase::Idle;
+            timing.since = t;
+            timing.until = t + duration(&params, r, timing.cycle, IDLE, idle);
+            (timing.until, arrival, looked)
+        },
+        |r, (until, arrival, looked)| {
+            if let Some(target) = arrival {
+                arrived.push((r, target));
+            }
+            clock.completed.push((r, looked));
+            clock.schedule(until, r);
+        },
+    );
+    for &(r, target) in &arrived {
+        positions.points[r as usize] = target;
+    }
+    if !arrived.is_empty() {
+        clock.move_ended = true;
+        clock.in_motion -= arrived.len();
     }
     clock.restore_ending(Phase::Move, ending);
     if clock.move_ended {
@@ -151,28 +156,36 @@ pub fn finish_computes<P: IndexPoint>(
 ) {
     let t = clock.tick;
     let ending = clock.take_ending(Phase::Compute);
+    // Each robot's Move phase, drawn from its own stream, and where it departs from,
+    // on both threads on a crowded tick; then, in robot order, the agenda and tallies.
+    let motion = spec(&params).motion;
+    let points = &positions.points;
     let mut departed: Vec<(u32, P, Timing<P>)> = Vec::new();
-    for &r in &ending {
-        let mut timing = robots
-            .get_mut(entities.0[r as usize])
-            .expect("robot entity");
-        // A robot that decided to stay spends its Move phase in place, so that every
-        // cycle is Idle, Look, Compute, Move whatever the decision.
-        let d = timing.pending;
-        timing.phase = Phase::Move;
-        timing.since = t;
-        timing.until = t + duration(&params, r, timing.cycle, MOVE, spec(&params).motion);
-        if let Some(d) = d {
-            departed.push((r, positions.points[r as usize], *timing));
-            // Moves count the correct robots only (SPEC 9.1).
-            if params.is_correct(r as usize) {
-                tally.moves += 1;
-                tally.distance += d.length();
+    update_robots(
+        &mut robots,
+        &entities,
+        &ending,
+        |_, r, mut timing| {
+            // A robot that decided to stay spends its Move phase in place, so that every
+            // cycle is Idle, Look, Compute, Move whatever the decision.
+            timing.phase = Phase::Move;
+            timing.since = t;
+            timing.until = t + duration(&params, r, timing.cycle, MOVE, motion);
+            (*timing, points[r as usize])
+        },
+        |r, (timing, from)| {
+            if let Some(d) = timing.pending {
+                departed.push((r, from, timing));
+                // Moves count the correct robots only (SPEC 9.1).
+                if params.is_correct(r as usize) {
+                    tally.moves += 1;
+                    tally.distance += d.length();
+                }
+                clock.epoch_moves += 1;
             }
-            clock.epoch_moves += 1;
-        }
-        clock.schedule(timing.until, r);
-    }
+            clock.schedule(timing.until, r);
+        },
+    );
     clock.restore_ending(Phase::Compute, ending);
     // As for the arrivals: in robot order, a structure a thread.
     let (kept_shape, sight) = (&mut *kept_shape, &mut *sight);
@@ -262,15 +275,10 @@ pub fn look<P: IndexPoint>(
         clock.restore_ending(Phase::Idle, lookers);
         return;
     }
-    let input = |&r: &u32| {
+    let inputs = map_events(&lookers, |r| {
         let (_, timing, memory) = robots.get(entities.0[r as usize]).expect("robot entity");
         (r, timing.cycle, memory.map(|m| m.0))
-    };
-    let inputs: Vec<(u32, u64, Option<RobotMemory>)> = if lookers.len() >= MANY_EVENTS {
-        lookers.par_iter().with_min_len(64).map(input).collect()
-    } else {
-        lookers.iter().map(input).collect()
-    };
+    });
     // The hull and box the Looks may ask for come from the kept shape (its work done
     // here rather than in Account, at the same tick).
     let pos = &positions.points;
@@ -291,30 +299,40 @@ pub fn look<P: IndexPoint>(
         Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(&params, s, clock.epochs, &inputs),
         Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(&params, s, clock.epochs, &inputs),
     };
-    for (&r, (d, memory)) in lookers.iter().zip(outputs) {
-        let (_, mut timing, stored) = robots
-            .get_mut(entities.0[r as usize])
-            .expect("robot entity");
-        if let (Some(mut stored), Some(m)) = (stored, memory) {
-            stored.0 = m;
-        }
-        timing.pending = d;
-        timing.phase = Phase::Compute;
-        timing.looked = t;
-        timing.since = t;
-        timing.until = t + duration(&params, r, timing.cycle, COMPUTE, spec(&params).compute);
-        timing.cycle += 1;
-        clock.schedule(timing.until, r);
-        clock.epoch_looks += 1;
-        if let Some(d) = d {
-            clock.in_motion += 1;
-            clock.move_decided = true;
-            // As `committed_points` lists it (the correct robots' only).
-            if params.is_correct(r as usize) {
-                committed.decide(r, positions.points[r as usize] + d);
+    // Each robot's clock and memory (its Compute phase drawn from its own stream), on
+    // both threads on a crowded tick; then, in robot order, the agenda and the
+    // committed hull.
+    let compute = spec(&params).compute;
+    update_robots(
+        &mut robots,
+        &entities,
+        &lookers,
+        |i, r, (_, mut timing, stored)| {
+            let (d, memory) = outputs[i];
+            if let (Some(mut stored), Some(m)) = (stored, memory) {
+                stored.0 = m;
             }
-        }
-    }
+            timing.pending = d;
+            timing.phase = Phase::Compute;
+            timing.looked = t;
+            timing.since = t;
+            timing.until = t + duration(&params, r, timing.cycle, COMPUTE, compute);
+            timing.cycle += 1;
+            (timing.until, d.map(|d| pos[r as usize] + d))
+        },
+        |r, (until, destination)| {
+            clock.schedule(until, r);
+            clock.epoch_looks += 1;
+            if let Some(destination) = destination {
+                clock.in_motion += 1;
+                clock.move_decided = true;
+                // As `committed_points` lists it (the correct robots' only).
+                if params.is_correct(r as usize) {
+                    committed.decide(r, destination);
+                }
+            }
+        },
+    );
     tally.activations += lookers
         .iter()
         .filter(|&&r| params.is_correct(r as usize))
@@ -337,6 +355,68 @@ pub(crate) fn committed_points<P: IndexPoint>(
 
 /// Events in a tick from which its work is worth sharing between threads.
 const MANY_EVENTS: usize = 256;
+
+/// `f` of each robot of `robots`, in their order: on all threads where they are
+/// [`MANY_EVENTS`] or more (each reads a robot's clock and position, misses in the
+/// caches), else on this one.
+fn map_events<T: Send>(robots: &[u32], f: impl Fn(u32) -> T + Sync + Send) -> Vec<T> {
+    map_indexed(robots.len(), |i| f(robots[i]))
+}
+
+/// `f(i)` for `i` in `0..n`, in order: on all threads where `n` is [`MANY_EVENTS`] or
+/// more, else on this one.
+fn map_indexed<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+    if n >= MANY_EVENTS {
+        (0..n).into_par_iter().with_min_len(64).map(f).collect()
+    } else {
+        (0..n).map(f).collect()
+    }
+}
+
+/// Robots updated a chunk at a time: `change(i, robot, its components)` for the
+/// robots of the chunk (`i` their place in `robots`), on all threads where they are
+/// [`MANY_EVENTS`] or more, then `then(robot, what change gave)` for each, in robot
+/// order. `robots` must be strictly ascending. The chunks bound what is held between
+/// the two (a random start at 10^6 has 10^5 robots Looking on each of the first ticks).
+fn update_robots<'s, D: QueryData, T: Send>(
+    query: &mut Query<'_, 's, D>,
+    entities: &RobotEntities,
+    robots: &[u32],
+    change: impl Fn(usize, u32, D::Item<'_, 's>) -> T + Sync + Send,
+    mut then: impl FnMut(u32, T),
+) where
+    for<'a> &'a Query<'a, 's, D>: Send,
+{
+    // Held exclusively here (`&mut`), and each robot once, so each call of `change`
+    // holds components no other call holds.
+    let query = &*query;
+    assert!(
+        robots.windows(2).all(|w| w[0] < w[1]),
+        "the robots of an event are ascending"
+    );
+    for (c, chunk) in robots.chunks(UPDATE_CHUNK).enumerate() {
+        let changed = map_indexed(chunk.len(), |i| {
+            let r = chunk[i];
+            // SAFETY: the robots are distinct (asserted above) and each has an entity of
+            // its own, so no two calls hold the same entity's components: the only
+            // aliasing `get_unchecked` leaves to its caller. One of the workspace's four
+            // unsafe blocks (the others: `prefetch`, the AVX2 walk, the C allocator's
+            // threshold).
+            #[allow(
+                unsafe_code,
+                reason = "components of distinct robots written from several threads"
+            )]
+            let item = unsafe { query.get_unchecked(entities.0[r as usize]) };
+            change(c * UPDATE_CHUNK + i, r, item.expect("robot entity"))
+        });
+        for (&r, x) in chunk.iter().zip(changed) {
+            then(r, x);
+        }
+    }
+}
+
+/// Robots [`update_robots`] changes at once.
+const UPDATE_CHUNK: usize = 8192;
 
 /// `rayon::join(a, b)` if `parallel`, else `a` then `b` on this thread.
 fn join_if<A: Send, B: Send>(
@@ -428,6 +508,96 @@ pub fn account<P: IndexPoint>(
 mod tests {
     use super::*;
     use glam::DVec2;
+
+    /// A robot's clock, different for each robot.
+    fn clock(r: u32) -> Timing<DVec2> {
+        Timing {
+            phase: Phase::Idle,
+            since: 0,
+            until: u64::from(r) + 1,
+            cycle: u64::from(r % 7),
+            looked: 0,
+            pending: None,
+        }
+    }
+
+    /// Robots updated from several threads, more than a chunk of them: each robot of
+    /// the list changed once with its own place in the list, the others untouched, and
+    /// what each change gave handed back in robot order, whatever the thread count.
+    #[test]
+    fn robots_updated_at_once_are_changed_each_once_and_reported_in_order() {
+        use bevy_ecs::system::RunSystemOnce;
+        let n = 7 * UPDATE_CHUNK as u32 + 100;
+        // Every third robot but a run of consecutive ones: chunks of both kinds.
+        let chosen: Vec<u32> = (0..n)
+            .filter(|r| r % 3 == 1 || (1000..1500).contains(r))
+            .collect();
+        assert!(chosen.len() > 2 * UPDATE_CHUNK);
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut world = World::new();
+            let entities: Vec<Entity> = (0..n).map(|r| world.spawn(clock(r)).id()).collect();
+            world.insert_resource(RobotEntities(entities.clone()));
+            let list = chosen.clone();
+            let reported = pool.install(|| {
+                world
+                    .run_system_once(
+                        move |mut robots: Query<&mut Timing<DVec2>>, ids: Res<RobotEntities>| {
+                            let mut reported = Vec::new();
+                            update_robots(
+                                &mut robots,
+                                &ids,
+                                &list,
+                                |i, r, mut timing| {
+                                    timing.looked += 1 + i as u64;
+                                    (i, r, timing.until)
+                                },
+                                |r, got| reported.push((r, got)),
+                            );
+                            reported
+                        },
+                    )
+                    .unwrap()
+            });
+            let expected: Vec<(u32, (usize, u32, u64))> = chosen
+                .iter()
+                .enumerate()
+                .map(|(i, &r)| (r, (i, r, u64::from(r) + 1)))
+                .collect();
+            assert_eq!(reported, expected, "{threads} threads");
+            let mut place = vec![None; n as usize];
+            for (i, &r) in chosen.iter().enumerate() {
+                place[r as usize] = Some(i as u64);
+            }
+            for r in 0..n {
+                let timing = *world.get::<Timing<DVec2>>(entities[r as usize]).unwrap();
+                let mut want = clock(r);
+                if let Some(i) = place[r as usize] {
+                    want.looked = 1 + i;
+                }
+                assert_eq!(timing, want, "robot {r}, {threads} threads");
+            }
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "ascending")]
+    fn robots_listed_twice_are_refused() {
+        use bevy_ecs::system::RunSystemOnce;
+        let mut world = World::new();
+        let entities: Vec<Entity> = (0..4).map(|r| world.spawn(clock(r)).id()).collect();
+        world.insert_resource(RobotEntities(entities));
+        world
+            .run_system_once(
+                |mut robots: Query<&mut Timing<DVec2>>, ids: Res<RobotEntities>| {
+                    update_robots(&mut robots, &ids, &[0, 2, 2, 3], |_, _, _| (), |_, _| ());
+                },
+            )
+            .unwrap();
+    }
 
     #[test]
     fn looks_see_movers_on_their_segments() {
