@@ -19,6 +19,10 @@ pub enum Phase {
 }
 
 /// A robot's ASYNC clock.
+///
+/// The decided displacement is held as a point and a flag ([`Timing::pending`]) rather
+/// than an `Option`, which would take 8 more bytes a robot (56 instead of 64 in the
+/// plane: 8 MB at 10^6 robots).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Timing<P: IndexPoint> {
     /// The current phase.
@@ -31,15 +35,53 @@ pub struct Timing<P: IndexPoint> {
     pub cycle: u64,
     /// The tick of the last Look.
     pub looked: u64,
-    /// Compute and Move: the displacement decided at the Look (`None`: stay; the Move
-    /// phase is then spent in place).
-    pub pending: Option<P>,
+    /// Whether a move was decided: [`Timing::pending`].
+    decided: bool,
+    /// The displacement decided, if `decided` (else zero).
+    displacement: P,
 }
 
 impl<P: IndexPoint> Timing<P> {
+    /// A clock in `phase` from tick `since` to `until`, after `cycle` Looks, the last
+    /// at tick `looked`, with the displacement `pending` decided there.
+    pub fn new(
+        phase: Phase,
+        since: u64,
+        until: u64,
+        cycle: u64,
+        looked: u64,
+        pending: Option<P>,
+    ) -> Self {
+        let mut timing = Timing {
+            phase,
+            since,
+            until,
+            cycle,
+            looked,
+            decided: false,
+            displacement: P::default(),
+        };
+        timing.set_pending(pending);
+        timing
+    }
+
+    /// Compute and Move: the displacement decided at the Look (`None`: stay; the Move
+    /// phase is then spent in place).
+    #[inline]
+    pub fn pending(&self) -> Option<P> {
+        self.decided.then_some(self.displacement)
+    }
+
+    /// Sets what [`Timing::pending`] gives.
+    #[inline]
+    pub fn set_pending(&mut self, pending: Option<P>) {
+        self.decided = pending.is_some();
+        self.displacement = pending.unwrap_or_default();
+    }
+
     /// The position at `tick` of a robot whose phase started at `from`.
     pub fn position_at(&self, from: P, tick: u64) -> P {
-        if self.phase != Phase::Move || self.pending.is_none() {
+        if self.phase != Phase::Move || !self.decided {
             return from;
         }
         interpolate(from, self.target(from), self.since, self.until, tick)
@@ -49,7 +91,7 @@ impl<P: IndexPoint> Timing<P> {
     /// `from` (`from` itself where it decided to stay).
     #[inline]
     pub fn target(&self, from: P) -> P {
-        match self.pending {
+        match self.pending() {
             Some(d) => from + d,
             None => from,
         }
@@ -215,6 +257,28 @@ pub struct RobotEntities(pub Vec<Entity>);
 #[cfg(test)]
 mod tests {
     use super::AsyncClock;
+
+    /// A clock gives back the decision it was given, forgets it to the bit (two clocks
+    /// that stay are equal whatever they held), and takes 56 bytes in the plane.
+    #[test]
+    fn a_clock_holds_its_decision_compactly() {
+        use super::{Phase, Timing};
+        use glam::{DVec2, DVec3};
+        let d = DVec2::new(-0.0, 2.5);
+        let mut t = Timing::new(Phase::Compute, 3, 7, 2, 3, Some(d));
+        assert_eq!(
+            t.pending().map(|p| p.to_array().map(f64::to_bits)),
+            Some(d.to_array().map(f64::to_bits))
+        );
+        t.set_pending(None);
+        assert_eq!(t.pending(), None);
+        assert_eq!(t, Timing::new(Phase::Compute, 3, 7, 2, 3, None));
+        t.set_pending(Some(DVec2::ZERO));
+        assert_eq!(t.pending(), Some(DVec2::ZERO));
+        assert_ne!(t, Timing::new(Phase::Compute, 3, 7, 2, 3, None));
+        assert_eq!(std::mem::size_of::<Timing<DVec2>>(), 56);
+        assert_eq!(std::mem::size_of::<Timing<DVec3>>(), 64);
+    }
 
     /// The calendar gives ticks in order, each with its robots ascending (also robots
     /// scheduled out of order, twice at one tick, or at the tick being processed), and

@@ -131,7 +131,7 @@ impl<P: IndexPoint> KeptShape<P> {
         if P::DIM != 2 {
             return;
         }
-        let moving = |t: &Timing<P>| t.phase == super::Phase::Move && t.pending.is_some();
+        let moving = |t: &Timing<P>| t.phase == super::Phase::Move && t.pending().is_some();
         self.rest.vertices(|| {
             robots()
                 .filter(|(_, _, timing)| !moving(timing))

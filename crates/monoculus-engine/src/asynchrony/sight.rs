@@ -118,7 +118,7 @@ impl<P: IndexPoint> LookSight<P> {
 
     /// Robot `robot` starts a move from `from` (its clock says where to and when).
     pub fn depart(&mut self, robot: u32, from: P, timing: Timing<P>) {
-        debug_assert!(timing.pending.is_some() && timing.phase == super::Phase::Move);
+        debug_assert!(timing.pending().is_some() && timing.phase == super::Phase::Move);
         let mover = Mover {
             to: timing.target(from),
             since: timing.since,

@@ -96,9 +96,9 @@ pub fn finish_moves<P: IndexPoint>(
         &entities,
         &ending,
         |_, r, mut timing| {
-            let arrival = timing.pending.map(|_| timing.target(points[r as usize]));
+            let arrival = timing.pending().map(|_| timing.target(points[r as usize]));
             let looked = timing.looked;
-            timing.pending = None;
+            timing.set_pending(None);
             timing.phase = Phase::Idle;
             timing.since = t;
             timing.until = t + duration(&params, r, timing.cycle, IDLE, idle);
@@ -174,7 +174,7 @@ pub fn finish_computes<P: IndexPoint>(
             (*timing, points[r as usize])
         },
         |r, (timing, from)| {
-            if let Some(d) = timing.pending {
+            if let Some(d) = timing.pending() {
                 departed.push((r, from, timing));
                 // Moves count the correct robots only (SPEC 9.1).
                 if params.is_correct(r as usize) {
@@ -312,7 +312,7 @@ pub fn look<P: IndexPoint>(
             if let (Some(mut stored), Some(m)) = (stored, memory) {
                 stored.0 = m;
             }
-            timing.pending = d;
+            timing.set_pending(d);
             timing.phase = Phase::Compute;
             timing.looked = t;
             timing.since = t;
@@ -348,7 +348,7 @@ pub(crate) fn committed_points<P: IndexPoint>(
     robots: impl Iterator<Item = (u32, P, Timing<P>)>,
 ) -> impl Iterator<Item = (u32, P)> {
     robots.flat_map(|(r, from, timing)| {
-        let destination = timing.pending.map(|d| (2 * r + 1, from + d));
+        let destination = timing.pending().map(|d| (2 * r + 1, from + d));
         std::iter::once((2 * r, from)).chain(destination)
     })
 }
@@ -511,14 +511,7 @@ mod tests {
 
     /// A robot's clock, different for each robot.
     fn clock(r: u32) -> Timing<DVec2> {
-        Timing {
-            phase: Phase::Idle,
-            since: 0,
-            until: u64::from(r) + 1,
-            cycle: u64::from(r % 7),
-            looked: 0,
-            pending: None,
-        }
+        Timing::new(Phase::Idle, 0, u64::from(r) + 1, u64::from(r % 7), 0, None)
     }
 
     /// Robots updated from several threads, more than a chunk of them: each robot of
@@ -602,22 +595,8 @@ mod tests {
     #[test]
     fn looks_see_movers_on_their_segments() {
         let settled = vec![DVec2::ZERO, DVec2::new(5.0, 0.0), DVec2::new(0.0, 5.0)];
-        let idle = Timing {
-            phase: Phase::Idle,
-            since: 0,
-            until: 20,
-            cycle: 0,
-            looked: 0,
-            pending: None,
-        };
-        let moving = Timing {
-            phase: Phase::Move,
-            since: 10,
-            until: 14,
-            cycle: 1,
-            looked: 8,
-            pending: Some(DVec2::new(-4.0, 0.0)),
-        };
+        let idle = Timing::new(Phase::Idle, 0, 20, 0, 0, None);
+        let moving = Timing::new(Phase::Move, 10, 14, 1, 8, Some(DVec2::new(-4.0, 0.0)));
         let robots = [
             (0, settled[0], idle),
             (1, settled[1], moving),

@@ -157,14 +157,7 @@ pub(super) fn spawn_robots<P: IndexPoint>(
     let clock = |i: usize| {
         (
             Robot { index: i as u32 },
-            Timing::<P> {
-                phase: Phase::Idle,
-                since: 0,
-                until: 0,
-                cycle: 0,
-                looked: 0,
-                pending: None,
-            },
+            Timing::<P>::new(Phase::Idle, 0, 0, 0, 0, None),
         )
     };
     let n = initial.len();

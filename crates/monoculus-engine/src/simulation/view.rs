@@ -79,14 +79,14 @@ impl<P: IndexPoint> Simulation<P> {
                 let looked = t.phase == Phase::Compute && t.looked == clock.tick;
                 let started = t.cycle > 0;
                 views[r.index as usize] = RobotView {
-                    activity: match (t.phase, t.pending) {
+                    activity: match (t.phase, t.pending()) {
                         (Phase::Idle, _) => Activity::Idle,
                         (Phase::Compute, _) => Activity::Computing,
                         (Phase::Move, Some(_)) => Activity::Moving,
                         (Phase::Move, None) => Activity::Staying,
                     },
                     looked,
-                    decision: if started { t.pending } else { None },
+                    decision: if started { t.pending() } else { None },
                     memory: None,
                 };
             }
