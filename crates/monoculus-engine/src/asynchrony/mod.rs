@@ -7,6 +7,7 @@
 mod committed;
 mod components;
 mod kept_hull;
+mod parallel;
 mod roster;
 mod shape;
 mod sight;

@@ -219,11 +219,7 @@ impl<P: IndexPoint> LookSight<P> {
         // In the memory of the index it replaces.
         let mut index = match old {
             Some(old) => old.index.moving_again(fill, one_tick)?,
-            None => {
-                let mut base = Vec::with_capacity(n);
-                fill(&mut base);
-                P::Index::moving(base, one_tick)?
-            }
+            None => P::Index::moving_filled(fill, one_tick)?,
         };
         let stale_limit = stale_limit(n);
         let limit = LIMIT * index.cell_size();

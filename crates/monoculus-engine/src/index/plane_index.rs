@@ -179,9 +179,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
 
     fn moving_again(self, fill: impl FnOnce(&mut Vec<DVec2>), one_tick: bool) -> Option<Self> {
         let (Some(moving), Some(grid)) = (self.moving, self.grid.into_inner()) else {
-            let mut positions = Vec::new();
-            fill(&mut positions);
-            return Self::moving(positions, one_tick);
+            return Self::moving_filled(fill, one_tick);
         };
         let mut base = moving.base;
         base.clear();

@@ -42,6 +42,12 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// that is done with: its arrays are emptied and filled again rather than freed and
     /// allocated (under ASYNC the index is made again every few ticks).
     fn moving_again(self, fill: impl FnOnce(&mut Vec<P>), one_tick: bool) -> Option<Self> {
+        Self::moving_filled(fill, one_tick)
+    }
+
+    /// The index [`SpatialIndex::moving`] makes over the points `fill` writes into an
+    /// empty vector, made afresh.
+    fn moving_filled(fill: impl FnOnce(&mut Vec<P>), one_tick: bool) -> Option<Self> {
         let mut positions = Vec::new();
         fill(&mut positions);
         Self::moving(positions, one_tick)
