@@ -23,7 +23,7 @@ pub enum Phase {
 /// The decided displacement is held as a point and a flag ([`Timing::pending`]) rather
 /// than an `Option`, which would take 8 more bytes a robot (56 instead of 64 in the
 /// plane: 8 MB at 10^6 robots).
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Timing<P: IndexPoint> {
     /// The current phase.
     pub phase: Phase,
@@ -247,6 +247,33 @@ impl AsyncClock {
             self.epoch_looks = 0;
             self.epoch_moves = 0;
         }
+    }
+}
+
+/// Every robot's ASYNC clock, by robot index. A table of its own rather than a
+/// component of the robots' entities, like the positions: a tick reaches its robots by
+/// index, scattered through the swarm, and through an entity each clock would be the
+/// third of three dependent reads (the robot's entity, its place in its table, then
+/// the clock), each a miss in the caches.
+#[derive(Resource, Clone, Debug)]
+pub struct Clocks<P: IndexPoint>(pub Vec<Timing<P>>);
+
+impl<P: IndexPoint> Clocks<P> {
+    /// `n` robots Idle from tick 0, their first phase end not yet drawn.
+    pub fn new(n: usize) -> Self {
+        Clocks(vec![Timing::new(Phase::Idle, 0, 0, 0, 0, None); n])
+    }
+
+    /// Each robot's index, settled point (from `points`, by robot index) and clock.
+    pub fn with_points<'a>(
+        &'a self,
+        points: &'a [P],
+    ) -> impl Iterator<Item = (u32, P, Timing<P>)> + 'a {
+        self.0
+            .iter()
+            .zip(points)
+            .enumerate()
+            .map(|(r, (timing, &from))| (r as u32, from, *timing))
     }
 }
 

@@ -2,11 +2,7 @@
 //! has many events, each robot changed by one thread, the results then taken in robot
 //! order, so that they are those of one thread whatever the thread count.
 
-use bevy_ecs::prelude::*;
-use bevy_ecs::query::QueryData;
 use rayon::prelude::*;
-
-use super::RobotEntities;
 
 /// Events in a tick from which its work is worth sharing between threads.
 pub(super) const MANY_EVENTS: usize = 256;
@@ -28,50 +24,63 @@ fn map_indexed<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T
     }
 }
 
-/// Robots updated a chunk at a time: `change(i, robot, its components)` for the
-/// robots of the chunk (`i` their place in `robots`), on all threads where they are
-/// [`MANY_EVENTS`] or more, then `then(robot, what change gave)` for each, in robot
-/// order. `robots` must be strictly ascending. The chunks bound what is held between
-/// the two (a random start at 10^6 has 10^5 robots Looking on each of the first ticks).
-pub(super) fn update_robots<'s, D: QueryData, T: Send>(
-    query: &mut Query<'_, 's, D>,
-    entities: &RobotEntities,
+/// Robots' entries of a table by robot (their clocks) updated a chunk at a time:
+/// `change(i, robot, its entry)` for the robots of the chunk (`i` their place in
+/// `robots`), on all threads where they are [`MANY_EVENTS`] or more, then
+/// `then(robot, what change gave)` for each, in robot order. `robots` must be strictly
+/// ascending. The chunks bound what is held between the two (a random start at 10^6
+/// has 10^5 robots Looking on each of the first ticks).
+pub(super) fn update_robots<C: Send, T: Send>(
+    table: &mut [C],
     robots: &[u32],
-    change: impl Fn(usize, u32, D::Item<'_, 's>) -> T + Sync + Send,
+    change: impl Fn(usize, u32, &mut C) -> T + Sync + Send,
     mut then: impl FnMut(u32, T),
-) where
-    for<'a> &'a Query<'a, 's, D>: Send,
-{
-    // Held exclusively here (`&mut`), and each robot once, so each call of `change`
-    // holds components no other call holds.
-    let query = &*query;
+) {
     assert!(
         robots.windows(2).all(|w| w[0] < w[1]),
         "the robots of an event are ascending"
     );
+    let change = &change;
     for (c, chunk) in robots.chunks(UPDATE_CHUNK).enumerate() {
-        let changed = map_indexed(chunk.len(), |i| {
-            let r = chunk[i];
-            // SAFETY: the robots are distinct (asserted above) and each has an entity of
-            // its own, so no two calls hold the same entity's components: the only
-            // aliasing `get_unchecked` leaves to its caller. One of the workspace's four
-            // unsafe blocks (the others: `prefetch`, the AVX2 walk, the C allocator's
-            // threshold).
-            #[allow(
-                unsafe_code,
-                reason = "components of distinct robots written from several threads"
-            )]
-            let item = unsafe { query.get_unchecked(entities.0[r as usize]) };
-            change(c * UPDATE_CHUNK + i, r, item.expect("robot entity"))
-        });
+        let first = c * UPDATE_CHUNK;
+        let changed: Vec<T> = if chunk.len() >= MANY_EVENTS {
+            // Runs of robots, each given the stretch of the table from its first
+            // robot to the next run's first: the robots ascending, the stretches are
+            // disjoint, and each thread changes entries no other holds.
+            let mut runs = Vec::with_capacity(chunk.len().div_ceil(RUN));
+            let (mut rest, mut from) = (&mut *table, 0);
+            for (k, run) in chunk.chunks(RUN).enumerate() {
+                let to = chunk
+                    .get((k + 1) * RUN)
+                    .map_or(from + rest.len(), |&r| r as usize);
+                let (stretch, after) = std::mem::take(&mut rest).split_at_mut(to - from);
+                runs.push((first + k * RUN, run, from, stretch));
+                (rest, from) = (after, to);
+            }
+            runs.into_par_iter()
+                .flat_map_iter(|(i, run, from, stretch)| {
+                    run.iter()
+                        .enumerate()
+                        .map(move |(k, &r)| change(i + k, r, &mut stretch[r as usize - from]))
+                })
+                .collect()
+        } else {
+            chunk
+                .iter()
+                .enumerate()
+                .map(|(k, &r)| change(first + k, r, &mut table[r as usize]))
+                .collect()
+        };
         for (&r, x) in chunk.iter().zip(changed) {
             then(r, x);
         }
     }
 }
 
-/// Robots [`update_robots`] changes at once.
+/// Robots [`update_robots`] changes at once...
 const UPDATE_CHUNK: usize = 8192;
+/// ...in runs of this many robots a task.
+const RUN: usize = 64;
 
 /// `rayon::join(a, b)` if `parallel`, else `a` then `b` on this thread.
 pub(super) fn join_if<A: Send, B: Send>(
@@ -97,46 +106,37 @@ mod tests {
         Timing::new(Phase::Idle, 0, u64::from(r) + 1, u64::from(r % 7), 0, None)
     }
 
-    /// Robots updated from several threads, more than a chunk of them: each robot of
-    /// the list changed once with its own place in the list, the others untouched, and
-    /// what each change gave handed back in robot order, whatever the thread count.
+    /// Robots updated from several threads, more than a chunk of them, each chunk with
+    /// runs of consecutive robots and gaps: each robot of the list changed once with
+    /// its own place in the list, the others untouched, and what each change gave
+    /// handed back in robot order, whatever the thread count.
     #[test]
     fn robots_updated_at_once_are_changed_each_once_and_reported_in_order() {
-        use bevy_ecs::system::RunSystemOnce;
         let n = 7 * UPDATE_CHUNK as u32 + 100;
-        // Every third robot but a run of consecutive ones: chunks of both kinds.
-        let chosen: Vec<u32> = (0..n)
-            .filter(|r| r % 3 == 1 || (1000..1500).contains(r))
+        // Every third robot but a run of consecutive ones, and the last robot: runs of
+        // every kind. And a few of them, changed on one thread.
+        let many: Vec<u32> = (0..n)
+            .filter(|r| r % 3 == 1 || (1000..1500).contains(r) || *r == n - 1)
             .collect();
-        assert!(chosen.len() > 2 * UPDATE_CHUNK);
-        for threads in [1, 2, 3] {
+        assert!(many.len() > 2 * UPDATE_CHUNK);
+        let few = many[..MANY_EVENTS - 1].to_vec();
+        for (chosen, threads) in [(&many, 1), (&many, 2), (&many, 3), (&few, 2)] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let mut world = World::new();
-            let entities: Vec<Entity> = (0..n).map(|r| world.spawn(clock(r)).id()).collect();
-            world.insert_resource(RobotEntities(entities.clone()));
-            let list = chosen.clone();
-            let reported = pool.install(|| {
-                world
-                    .run_system_once(
-                        move |mut robots: Query<&mut Timing<DVec2>>, ids: Res<RobotEntities>| {
-                            let mut reported = Vec::new();
-                            update_robots(
-                                &mut robots,
-                                &ids,
-                                &list,
-                                |i, r, mut timing| {
-                                    timing.looked += 1 + i as u64;
-                                    (i, r, timing.until)
-                                },
-                                |r, got| reported.push((r, got)),
-                            );
-                            reported
-                        },
-                    )
-                    .unwrap()
+            let mut table: Vec<Timing<DVec2>> = (0..n).map(clock).collect();
+            let mut reported = Vec::new();
+            pool.install(|| {
+                update_robots(
+                    &mut table,
+                    chosen,
+                    |i, r, timing| {
+                        timing.looked += 1 + i as u64;
+                        (i, r, timing.until)
+                    },
+                    |r, got| reported.push((r, got)),
+                )
             });
             let expected: Vec<(u32, (usize, u32, u64))> = chosen
                 .iter()
@@ -149,12 +149,11 @@ mod tests {
                 place[r as usize] = Some(i as u64);
             }
             for r in 0..n {
-                let timing = *world.get::<Timing<DVec2>>(entities[r as usize]).unwrap();
                 let mut want = clock(r);
                 if let Some(i) = place[r as usize] {
                     want.looked = 1 + i;
                 }
-                assert_eq!(timing, want, "robot {r}, {threads} threads");
+                assert_eq!(table[r as usize], want, "robot {r}, {threads} threads");
             }
         }
     }
@@ -162,16 +161,7 @@ mod tests {
     #[test]
     #[should_panic(expected = "ascending")]
     fn robots_listed_twice_are_refused() {
-        use bevy_ecs::system::RunSystemOnce;
-        let mut world = World::new();
-        let entities: Vec<Entity> = (0..4).map(|r| world.spawn(clock(r)).id()).collect();
-        world.insert_resource(RobotEntities(entities));
-        world
-            .run_system_once(
-                |mut robots: Query<&mut Timing<DVec2>>, ids: Res<RobotEntities>| {
-                    update_robots(&mut robots, &ids, &[0, 2, 2, 3], |_, _, _| (), |_, _| ());
-                },
-            )
-            .unwrap();
+        let mut table: Vec<Timing<DVec2>> = (0..4).map(clock).collect();
+        update_robots(&mut table, &[0, 2, 2, 3], |_, _, _| (), |_, _| ());
     }
 }

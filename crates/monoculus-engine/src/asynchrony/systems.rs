@@ -8,10 +8,10 @@ use rayon::prelude::*;
 use super::parallel::{MANY_EVENTS, join_if, map_events, update_robots};
 use super::sight::Looking;
 use super::{
-    AsyncClock, AsyncSpec, CommittedHull, KeptShape, LookSight, Phase, RobotEntities, TickDist,
-    Timing,
+    AsyncClock, AsyncSpec, Clocks, CommittedHull, KeptShape, LookSight, Phase, RobotEntities,
+    TickDist, Timing,
 };
-use crate::components::{Memory, Robot};
+use crate::components::Memory;
 use crate::faults::Role;
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
 use crate::systems::{decide_one, realise};
@@ -59,17 +59,13 @@ fn spec(params: &Params) -> AsyncSpec {
 }
 
 /// Advance: the next tick with phase ends, its robots sorted by the phase that ends.
-pub fn advance<P: IndexPoint>(
-    mut clock: ResMut<AsyncClock>,
-    entities: Res<RobotEntities>,
-    robots: Query<&Timing<P>>,
-) {
+pub fn advance<P: IndexPoint>(mut clock: ResMut<AsyncClock>, clocks: Res<Clocks<P>>) {
     if !clock.advance() {
         return;
     }
     let t = clock.tick;
     clock.sort_due(MANY_EVENTS, |r| {
-        let timing = robots.get(entities.0[r as usize]).expect("robot entity");
+        let timing = &clocks.0[r as usize];
         (timing.until == t).then_some(timing.phase)
     });
 }
@@ -78,11 +74,10 @@ pub fn advance<P: IndexPoint>(
 pub fn finish_moves<P: IndexPoint>(
     params: Res<Params>,
     mut clock: ResMut<AsyncClock>,
-    entities: Res<RobotEntities>,
+    mut clocks: ResMut<Clocks<P>>,
     mut positions: ResMut<Positions<P>>,
     mut committed: ResMut<CommittedHull<P>>,
     (mut kept_shape, mut sight): (ResMut<KeptShape<P>>, ResMut<LookSight<P>>),
-    mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
     let ending = clock.take_ending(Phase::Move);
@@ -92,10 +87,9 @@ pub fn finish_moves<P: IndexPoint>(
     let points = &positions.points;
     let mut arrived: Vec<(u32, P)> = Vec::new();
     update_robots(
-        &mut robots,
-        &entities,
+        &mut clocks.0,
         &ending,
-        |_, r, mut timing| {
+        |_, r, timing| {
             let arrival = timing.pending().map(|_| timing.target(points[r as usize]));
             let looked = timing.looked;
             timing.set_pending(None);
@@ -148,11 +142,10 @@ pub fn finish_moves<P: IndexPoint>(
 pub fn finish_computes<P: IndexPoint>(
     params: Res<Params>,
     mut clock: ResMut<AsyncClock>,
-    entities: Res<RobotEntities>,
+    mut clocks: ResMut<Clocks<P>>,
     mut tally: ResMut<Tally>,
     positions: Res<Positions<P>>,
     (mut kept_shape, mut sight): (ResMut<KeptShape<P>>, ResMut<LookSight<P>>),
-    mut robots: Query<&mut Timing<P>>,
 ) {
     let t = clock.tick;
     let ending = clock.take_ending(Phase::Compute);
@@ -162,10 +155,9 @@ pub fn finish_computes<P: IndexPoint>(
     let points = &positions.points;
     let mut departed: Vec<(u32, P, Timing<P>)> = Vec::new();
     update_robots(
-        &mut robots,
-        &entities,
+        &mut clocks.0,
         &ending,
-        |_, r, mut timing| {
+        |_, r, timing| {
             // A robot that decided to stay spends its Move phase in place, so that every
             // cycle is Idle, Look, Compute, Move whatever the decision.
             timing.phase = Phase::Move;
@@ -244,13 +236,6 @@ fn decide_all<P: IndexPoint, S: Sight<P>>(
         .collect()
 }
 
-/// What the Look system reads and writes of each robot.
-type LookerData<P> = (
-    &'static Robot,
-    &'static mut Timing<P>,
-    Option<&'static mut Memory>,
-);
-
 /// What the Look system keeps across ticks: the committed hull (destinations), the
 /// sight, and the kept shape (the swarm's hull and box for the Looks).
 type LookState<'w, P> = (
@@ -262,12 +247,12 @@ type LookState<'w, P> = (
 /// Look (and the decision, which the Compute phase then delays).
 pub fn look<P: IndexPoint>(
     params: Res<Params>,
-    mut clock: ResMut<AsyncClock>,
+    (mut clock, mut clocks): (ResMut<AsyncClock>, ResMut<Clocks<P>>),
     entities: Res<RobotEntities>,
     positions: Res<Positions<P>>,
     mut tally: ResMut<Tally>,
     (mut committed, mut sight, mut kept_shape): LookState<P>,
-    mut robots: Query<LookerData<P>>,
+    mut memories: Query<&mut Memory>,
 ) {
     let t = clock.tick;
     let lookers = clock.take_ending(Phase::Idle);
@@ -275,18 +260,19 @@ pub fn look<P: IndexPoint>(
         clock.restore_ending(Phase::Idle, lookers);
         return;
     }
-    let inputs = map_events(&lookers, |r| {
-        let (_, timing, memory) = robots.get(entities.0[r as usize]).expect("robot entity");
-        (r, timing.cycle, memory.map(|m| m.0))
-    });
+    // The robots' memories, where the algorithm gives them one (components of their
+    // entities, the same for every scheduler).
+    let with_memory = !memories.is_empty();
+    let memory = |r: u32| {
+        with_memory
+            .then(|| memories.get(entities.0[r as usize]).ok().map(|m| m.0))
+            .flatten()
+    };
+    let inputs = map_events(&lookers, |r| (r, clocks.0[r as usize].cycle, memory(r)));
     // The hull and box the Looks may ask for come from the kept shape (its work done
     // here rather than in Account, at the same tick).
     let pos = &positions.points;
-    kept_shape.refresh(|| {
-        robots
-            .iter()
-            .map(|(r, timing, _)| (r.index, pos[r.index as usize], *timing))
-    });
+    kept_shape.refresh(|| clocks.with_points(pos));
     let outputs = match sight.at(&params, t, pos, lookers.len(), &kept_shape) {
         Looking::Made(s) => decide_all(&params, &s, clock.epochs, &inputs),
         Looking::Moving(s) => decide_all(&params, &s, clock.epochs, &inputs),
@@ -299,28 +285,29 @@ pub fn look<P: IndexPoint>(
         Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(&params, s, clock.epochs, &inputs),
         Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(&params, s, clock.epochs, &inputs),
     };
-    // Each robot's clock and memory (its Compute phase drawn from its own stream), on
-    // both threads on a crowded tick; then, in robot order, the agenda and the
+    // Each robot's clock (its Compute phase drawn from its own stream), on both threads
+    // on a crowded tick; then, in robot order, its memory, the agenda and the
     // committed hull.
     let compute = spec(&params).compute;
     update_robots(
-        &mut robots,
-        &entities,
+        &mut clocks.0,
         &lookers,
-        |i, r, (_, mut timing, stored)| {
-            let (d, memory) = outputs[i];
-            if let (Some(mut stored), Some(m)) = (stored, memory) {
-                stored.0 = m;
-            }
+        |i, r, timing| {
+            let d = outputs[i].0;
             timing.set_pending(d);
             timing.phase = Phase::Compute;
             timing.looked = t;
             timing.since = t;
             timing.until = t + duration(&params, r, timing.cycle, COMPUTE, compute);
             timing.cycle += 1;
-            (timing.until, d.map(|d| pos[r as usize] + d))
+            (timing.until, d.map(|d| pos[r as usize] + d), outputs[i].1)
         },
-        |r, (until, destination)| {
+        |r, (until, destination, memory)| {
+            if let Some(m) = memory
+                && let Ok(mut stored) = memories.get_mut(entities.0[r as usize])
+            {
+                stored.0 = m;
+            }
             clock.schedule(until, r);
             clock.epoch_looks += 1;
             if let Some(destination) = destination {
@@ -362,19 +349,18 @@ pub fn account<P: IndexPoint>(
     mut shape: ResMut<Shape>,
     mut tally: ResMut<Tally>,
     (mut kept, mut kept_shape): (ResMut<CommittedHull<P>>, ResMut<KeptShape<P>>),
-    robots: Query<(&Robot, &Timing<P>)>,
+    clocks: Res<Clocks<P>>,
 ) {
     clock.account();
     let tick = clock.tick;
     let pos = &positions.points;
-    let robots = &robots;
+    let clocks = &*clocks;
     let params = &params;
     let all = || {
         committed_points(
-            robots
-                .iter()
-                .filter(|(r, _)| params.is_correct(r.index as usize))
-                .map(|(r, t)| (r.index, pos[r.index as usize], *t)),
+            clocks
+                .with_points(pos)
+                .filter(|&(r, _, _)| params.is_correct(r as usize)),
         )
     };
     let committed_before = kept.last();
@@ -396,11 +382,7 @@ pub fn account<P: IndexPoint>(
         },
         || {
             clock.move_ended.then(|| {
-                let clocks = || {
-                    robots
-                        .iter()
-                        .map(|(r, timing)| (r.index, pos[r.index as usize], *timing))
-                };
+                let clocks = || clocks.with_points(pos);
                 let now = || positions_now(tick, pos, clocks());
                 if params.faults.is_some() {
                     // The correct robots' shape, taken afresh (the kept shape follows

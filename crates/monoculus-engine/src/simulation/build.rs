@@ -138,10 +138,10 @@ pub(super) fn spawn_robots<P: IndexPoint>(
     initial: &[P],
 ) -> Vec<Entity> {
     // Each robot is spawned with every component it will carry, so that nothing moves
-    // it to another archetype later (at 10^6 robots, inserting the ASYNC clock one robot
-    // at a time left two tables of the swarm behind: half the peak memory). Round
-    // schedulers' robots carry their activation, wait and intent; ASYNC robots their
-    // clock (its first phase is drawn when the scheduler is wired).
+    // it to another archetype later (at 10^6 robots, inserting a component one robot at
+    // a time left two tables of the swarm behind: half the peak memory). Round
+    // schedulers' robots carry their activation, wait and intent; ASYNC robots only
+    // their index (their clocks are a table of their own, `Clocks`).
     let memory = |i: usize| {
         let mut stream = Stream::keyed(config.seed, Purpose::RobotFrame, i as u64, 0);
         Memory(RobotMemory::new(AxisFrame::random(P::DIM, &mut stream)))
@@ -154,12 +154,7 @@ pub(super) fn spawn_robots<P: IndexPoint>(
             Intent::<P>(None),
         )
     };
-    let clock = |i: usize| {
-        (
-            Robot { index: i as u32 },
-            Timing::<P>::new(Phase::Idle, 0, 0, 0, 0, None),
-        )
-    };
+    let clock = |i: usize| Robot { index: i as u32 };
     let n = initial.len();
     let has_memory = config.algorithm.kind.has_memory();
     let asynchronous = matches!(config.scheduler, SchedulerSpec::Async(_));

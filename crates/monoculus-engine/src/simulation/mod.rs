@@ -17,7 +17,7 @@ use monoculus_core::vision::{Sight, VisionParams};
 use rayon::prelude::*;
 
 use crate::asynchrony::{
-    self, AsyncClock, AsyncSet, Phase, RobotEntities, START, Timing, duration,
+    self, AsyncClock, AsyncSet, Clocks, Phase, RobotEntities, START, duration,
 };
 use crate::components::{Activated, Intent, Memory, Robot, Waiting};
 use crate::resources::{

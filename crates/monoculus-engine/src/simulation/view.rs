@@ -46,16 +46,8 @@ impl<P: IndexPoint> Simulation<P> {
         let Some(clock) = self.world.get_resource::<AsyncClock>() else {
             return settled.to_vec();
         };
-        let mut q = self
-            .world
-            .try_query::<(&Robot, &Timing<P>)>()
-            .expect("ASYNC robots carry a Timing");
-        asynchrony::positions_now(
-            clock.tick,
-            settled,
-            q.iter(&self.world)
-                .map(|(r, t)| (r.index, settled[r.index as usize], *t)),
-        )
+        let clocks = self.world.resource::<Clocks<P>>();
+        asynchrony::positions_now(clock.tick, settled, clocks.with_points(settled))
     }
 
     /// Every robot's [`RobotView`], by robot index.
@@ -71,14 +63,10 @@ impl<P: IndexPoint> Simulation<P> {
             n
         ];
         if let Some(clock) = self.world.get_resource::<AsyncClock>() {
-            let mut q = self
-                .world
-                .try_query::<(&Robot, &Timing<P>)>()
-                .expect("ASYNC robots carry a Timing");
-            for (r, t) in q.iter(&self.world) {
+            for (r, t) in self.world.resource::<Clocks<P>>().0.iter().enumerate() {
                 let looked = t.phase == Phase::Compute && t.looked == clock.tick;
                 let started = t.cycle > 0;
-                views[r.index as usize] = RobotView {
+                views[r] = RobotView {
                     activity: match (t.phase, t.pending()) {
                         (Phase::Idle, _) => Activity::Idle,
                         (Phase::Compute, _) => Activity::Computing,

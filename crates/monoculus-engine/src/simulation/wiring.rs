@@ -16,6 +16,7 @@ pub(super) fn insert_async_resources<P: IndexPoint>(
     world.insert_resource(asynchrony::KeptShape::<P>::new());
     world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
     world.insert_resource(RobotEntities(Vec::new()));
+    world.insert_resource(Clocks::<P>::new(initial.len()));
 }
 
 /// Wires the ASYNC scheduler over the robots spawned as `entities` (by index): every
@@ -28,9 +29,9 @@ pub(super) fn wire_async<P: IndexPoint>(
     entities: Vec<Entity>,
 ) {
     let mut clock = std::mem::take(&mut *world.resource_mut::<AsyncClock>());
-    let mut timings = world.query::<(&Robot, &mut Timing<P>)>();
-    for (robot, mut timing) in timings.iter_mut(world) {
-        let i = robot.index;
+    let mut clocks = world.resource_mut::<Clocks<P>>();
+    for (i, timing) in clocks.0.iter_mut().enumerate() {
+        let i = i as u32;
         let until = match spec.start {
             AsyncStart::Together => 0,
             AsyncStart::Random => duration(params, i, 0, START, spec.idle),

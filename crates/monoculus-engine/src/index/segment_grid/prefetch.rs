@@ -5,9 +5,8 @@
 pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: prefetching is a hint that never faults, here on a valid reference. One of
-    // the workspace's four unsafe blocks (the others call the AVX2 walk once the CPU is
-    // known to have it, set the C allocator's threshold in the command line, and update
-    // distinct robots from several threads in the ASYNC systems);
+    // the workspace's three unsafe blocks (the others call the AVX2 walk once the CPU is
+    // known to have it and set the C allocator's threshold in the command line);
     // `unsafe_code = "deny"` everywhere else.
     #[allow(
         unsafe_code,
