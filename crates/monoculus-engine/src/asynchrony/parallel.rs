@@ -11,16 +11,10 @@ pub(super) const MANY_EVENTS: usize = 256;
 /// [`MANY_EVENTS`] or more (each reads a robot's clock and position, misses in the
 /// caches), else on this one.
 pub(super) fn map_events<T: Send>(robots: &[u32], f: impl Fn(u32) -> T + Sync + Send) -> Vec<T> {
-    map_indexed(robots.len(), |i| f(robots[i]))
-}
-
-/// `f(i)` for `i` in `0..n`, in order: on all threads where `n` is [`MANY_EVENTS`] or
-/// more, else on this one.
-fn map_indexed<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
-    if n >= MANY_EVENTS {
-        (0..n).into_par_iter().with_min_len(64).map(f).collect()
+    if robots.len() >= MANY_EVENTS {
+        robots.par_iter().with_min_len(64).map(|&r| f(r)).collect()
     } else {
-        (0..n).map(f).collect()
+        robots.iter().map(|&r| f(r)).collect()
     }
 }
 

@@ -146,15 +146,8 @@ pub(super) fn spawn_robots<P: IndexPoint>(
         let mut stream = Stream::keyed(config.seed, Purpose::RobotFrame, i as u64, 0);
         Memory(RobotMemory::new(AxisFrame::random(P::DIM, &mut stream)))
     };
-    let round = |i: usize| {
-        (
-            Robot { index: i as u32 },
-            Activated(false),
-            Waiting(0),
-            Intent::<P>(None),
-        )
-    };
-    let clock = |i: usize| Robot { index: i as u32 };
+    let robot = |i: usize| Robot { index: i as u32 };
+    let round = |i: usize| (robot(i), Activated(false), Waiting(0), Intent::<P>(None));
     let n = initial.len();
     let has_memory = config.algorithm.kind.has_memory();
     let asynchronous = matches!(config.scheduler, SchedulerSpec::Async(_));
@@ -163,10 +156,10 @@ pub(super) fn spawn_robots<P: IndexPoint>(
         (false, true) => world
             .spawn_batch((0..n).map(|i| (round(i), memory(i))))
             .for_each(drop),
-        (true, false) => return world.spawn_batch((0..n).map(clock)).collect(),
+        (true, false) => return world.spawn_batch((0..n).map(robot)).collect(),
         (true, true) => {
             return world
-                .spawn_batch((0..n).map(|i| (clock(i), memory(i))))
+                .spawn_batch((0..n).map(|i| (robot(i), memory(i))))
                 .collect();
         }
     }
