@@ -143,31 +143,43 @@ impl<P: IndexPoint> LookSight<P> {
         }
     }
 
-    /// The sight at `tick` for `looks` Looks: robots at rest at their points in
-    /// `settled`, movers on their segments. `shape`, [refreshed](KeptShape::refresh)
-    /// at this tick, gives the points the swarm's hull and box are taken from.
+    /// Whether Looks use the moving index (else a snapshot of each tick).
+    fn moves(params: &Params) -> bool {
+        P::Index::can_move()
+            && matches!(params.backend, SightBackend::Index)
+            && !params.vision.fat()
+    }
+
+    /// Readies the moving index for `looks` Looks at `tick` (made again if it no
+    /// longer serves), before [`LookSight::at`] gives the sight: apart, so that the
+    /// index may be made while another thread refreshes the kept shape.
+    pub fn ready(&mut self, params: &Params, tick: u64, settled: &[P], looks: usize) {
+        if !Self::moves(params) {
+            return;
+        }
+        let current = self
+            .moving
+            .as_ref()
+            .is_some_and(|m| tick <= m.last && m.index.stale_robots() <= m.stale_limit);
+        if !current {
+            self.moving = self.remake(tick, settled);
+            self.looks = 0;
+        }
+        self.looks += looks;
+    }
+
+    /// The sight at `tick`, [readied](LookSight::ready) for its Looks: robots at rest
+    /// at their points in `settled`, movers on their segments. `shape`,
+    /// [refreshed](KeptShape::refresh) at this tick, gives the points the swarm's hull
+    /// and box are taken from.
     pub fn at<'a>(
         &'a mut self,
         params: &Params,
         tick: u64,
         settled: &'a [P],
-        looks: usize,
         shape: &'a KeptShape<P>,
     ) -> Looking<'a, P> {
-        let moving = P::Index::can_move()
-            && matches!(params.backend, SightBackend::Index)
-            && !params.vision.fat();
-        if moving {
-            let current = self
-                .moving
-                .as_ref()
-                .is_some_and(|m| tick <= m.last && m.index.stale_robots() <= m.stale_limit);
-            if !current {
-                self.moving = self.remake(tick, settled);
-                self.looks = 0;
-            }
-            self.looks += looks;
-        }
+        let moving = Self::moves(params);
         let movers = &self.movers;
         let at = Located {
             settled,

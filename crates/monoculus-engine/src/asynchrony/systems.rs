@@ -85,7 +85,7 @@ pub fn finish_moves<P: IndexPoint>(
     // stream), on both threads on a crowded tick; then, in robot order, the agenda.
     let idle = spec(&params).idle;
     let points = &positions.points;
-    let mut arrived: Vec<(u32, P)> = Vec::new();
+    let mut arrived: Vec<(u32, P)> = Vec::with_capacity(ending.len());
     update_robots(
         &mut clocks.0,
         &ending,
@@ -153,7 +153,7 @@ pub fn finish_computes<P: IndexPoint>(
     // on both threads on a crowded tick; then, in robot order, the agenda and tallies.
     let motion = spec(&params).motion;
     let points = &positions.points;
-    let mut departed: Vec<(u32, P, Timing<P>)> = Vec::new();
+    let mut departed: Vec<(u32, P, Timing<P>)> = Vec::with_capacity(ending.len());
     update_robots(
         &mut clocks.0,
         &ending,
@@ -270,10 +270,17 @@ pub fn look<P: IndexPoint>(
     };
     let inputs = map_events(&lookers, |r| (r, clocks.0[r as usize].cycle, memory(r)));
     // The hull and box the Looks may ask for come from the kept shape (its work done
-    // here rather than in Account, at the same tick).
+    // here rather than in Account, at the same tick), refreshed while the index is
+    // readied, each on its own thread on a crowded tick (both are passes of one
+    // thread for the most part).
     let pos = &positions.points;
-    kept_shape.refresh(|| clocks.with_points(pos));
-    let outputs = match sight.at(&params, t, pos, lookers.len(), &kept_shape) {
+    let clocks_now = &*clocks;
+    join_if(
+        lookers.len() >= MANY_EVENTS,
+        || kept_shape.refresh(|| clocks_now.with_points(pos)),
+        || sight.ready(&params, t, pos, lookers.len()),
+    );
+    let outputs = match sight.at(&params, t, pos, &kept_shape) {
         Looking::Made(s) => decide_all(&params, &s, clock.epochs, &inputs),
         Looking::Moving(s) => decide_all(&params, &s, clock.epochs, &inputs),
         Looking::Snapshot(SnapshotSight::Index(s)) => {

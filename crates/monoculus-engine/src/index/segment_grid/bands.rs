@@ -181,11 +181,14 @@ impl Bands {
         }
         let n = points.len();
         refill(&mut start, total + 1, 0);
+        // Every robot's entry of these is written below: only the padding is set here
+        // (an array made again at every tick with Looks, not cleared first).
         // Padded like `coords`, with no robot.
-        refill(&mut items, n + LANES, u32::MAX);
-        refill(&mut place, n, 0);
+        pad(&mut items, n, u32::MAX);
+        place.truncate(n);
+        place.resize(n, 0);
         // Padded (see [`LANES`]) with points that pass no filter.
-        refill(&mut coords, n + LANES, [f32::NAN; 2]);
+        pad(&mut coords, n, [f32::NAN; 2]);
         // Until a robot is given a disc, every one is at its point.
         reach.clear();
         let mut grid = Bands {
@@ -260,4 +263,12 @@ impl Bands {
 fn refill<T: Copy>(v: &mut Vec<T>, len: usize, value: T) {
     v.clear();
     v.resize(len, value);
+}
+
+/// `v` made `n` + [`LANES`] long, its last [`LANES`] entries `value`, its first `n` as
+/// they were (or `value` where it was shorter): for an array whose first `n` entries
+/// are all written next.
+fn pad<T: Copy>(v: &mut Vec<T>, n: usize, value: T) {
+    v.truncate(n);
+    v.resize(n + LANES, value);
 }

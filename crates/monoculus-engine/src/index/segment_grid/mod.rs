@@ -83,7 +83,7 @@ impl SegmentGrid {
         most: f64,
         nested: bool,
     ) -> Self {
-        let (first, sample, quartile) = first_level(points, most);
+        let (first, sample, quartile) = first_level(points, most, parallel);
         if !nested {
             return Self::with_levels(spare, points, &[first], parallel);
         }
@@ -223,8 +223,8 @@ const CUTS: [usize; 2] = [20, 10];
 /// The first level of a grid over `points` with at most about `most` times as many
 /// cells per layout as robots (the swarm's box), the robots sampled for the next ones,
 /// and the area per robot of the swarm of its box between the first and third
-/// quartiles of each coordinate.
-fn first_level<P: Point>(points: &[P], most: f64) -> (Level, Sample, f64) {
+/// quartiles of each coordinate (the two on two threads if `parallel`).
+fn first_level<P: Point>(points: &[P], most: f64, parallel: bool) -> (Level, Sample, f64) {
     let n = points.len().max(1) as f64;
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in points {
@@ -249,7 +249,7 @@ fn first_level<P: Point>(points: &[P], most: f64) -> (Level, Sample, f64) {
     // robots far out, and lines of sight cross the core. But never more than about
     // `most` n cells per layout (straggling swarms: memory against walk length, see
     // docs/performance.md), nor 4n for thin ones.
-    let quartile = sample.quartile_box_area() / n;
+    let quartile = sample.quartile_box_area(parallel) / n;
     let spacing = (4.0 * quartile)
         .sqrt()
         .max((ext[0] * ext[1] / (most * n * BAND * CELL)).sqrt())
@@ -286,7 +286,9 @@ impl Sample {
     }
 
     /// The area of the box between the first and third quartiles of each coordinate.
-    fn quartile_box_area(&self) -> f64 {
+    /// The sides on two threads if `parallel`: a grid made at every tick with Looks
+    /// (ASYNC at coarse durations) would otherwise rank its sample on one.
+    fn quartile_box_area(&self, parallel: bool) -> f64 {
         if self.points.len() < 4 {
             return 0.0;
         }
@@ -294,7 +296,12 @@ impl Sample {
             let [q1, q3] = ranked(&self.points, a, |len| [len / 4, 3 * len / 4]);
             q3 - q1
         };
-        side(0) * side(1)
+        let (x, y) = if parallel {
+            rayon::join(|| side(0), || side(1))
+        } else {
+            (side(0), side(1))
+        };
+        x * y
     }
 
     /// The levels of a grid's parts, the first given (the swarm's box), for a swarm

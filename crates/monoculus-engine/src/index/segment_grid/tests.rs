@@ -153,7 +153,10 @@ fn the_crowding_shortcut_never_leaves_out_a_part() {
             pts.extend([DVec2::new(-far, 0.0), DVec2::new(0.0, far)]);
         }
         for most in [MOST_CELLS, MOST_MOVING_CELLS] {
-            let (first, sample, quartile) = first_level(&pts, most);
+            let (first, sample, quartile) = first_level(&pts, most, false);
+            // The sides ranked on two threads: the same area.
+            let (_, _, twice) = first_level(&pts, most, true);
+            assert_eq!(quartile.to_bits(), twice.to_bits(), "step {step}");
             let levels = sample.levels(first, quartile);
             let without = sample.levels(first, 0.0);
             let boxes = |l: &[Level]| {
