@@ -37,7 +37,7 @@ pub(super) fn update_robots<C: Send, T: Send>(
     let change = &change;
     for (c, chunk) in robots.chunks(UPDATE_CHUNK).enumerate() {
         let first = c * UPDATE_CHUNK;
-        let changed: Vec<T> = if chunk.len() >= MANY_EVENTS {
+        let changed: Vec<Option<T>> = if chunk.len() >= MANY_EVENTS {
             // Runs of robots, each given the stretch of the table from its first
             // robot to the next run's first: the robots ascending, the stretches are
             // disjoint, and each thread changes entries no other holds.
@@ -51,22 +51,27 @@ pub(super) fn update_robots<C: Send, T: Send>(
                 runs.push((first + k * RUN, run, from, stretch));
                 (rest, from) = (after, to);
             }
-            runs.into_par_iter()
-                .flat_map_iter(|(i, run, from, stretch)| {
-                    run.iter()
-                        .enumerate()
-                        .map(move |(k, &r)| change(i + k, r, &mut stretch[r as usize - from]))
-                })
-                .collect()
+            // Each run's results written in place, in its own stretch of the output:
+            // no lists to join afterwards on one thread.
+            let mut out: Vec<Option<T>> =
+                std::iter::repeat_with(|| None).take(chunk.len()).collect();
+            out.par_chunks_mut(RUN)
+                .zip(runs)
+                .for_each(|(slots, (i, run, from, stretch))| {
+                    for (k, (&r, slot)) in run.iter().zip(slots).enumerate() {
+                        *slot = Some(change(i + k, r, &mut stretch[r as usize - from]));
+                    }
+                });
+            out
         } else {
             chunk
                 .iter()
                 .enumerate()
-                .map(|(k, &r)| change(first + k, r, &mut table[r as usize]))
+                .map(|(k, &r)| Some(change(first + k, r, &mut table[r as usize])))
                 .collect()
         };
         for (&r, x) in chunk.iter().zip(changed) {
-            then(r, x);
+            then(r, x.expect("every robot of the chunk changed"));
         }
     }
 }
