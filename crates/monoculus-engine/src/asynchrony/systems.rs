@@ -236,6 +236,13 @@ fn decide_all<P: IndexPoint, S: Sight<P>>(
         .collect()
 }
 
+/// The largest swarm whose kept shape is refreshed while the Looks' index is readied.
+/// Together they hold both passes' scratch memory at once: at 10^6 robots that raised
+/// the late state's peak by 2.5 MB, which the whole run's 300 MB cannot spare, for a
+/// gain lost in the noise there (the refresh is 1% of a coarse tick at 10^5, 4% at
+/// 10^4).
+const TOGETHER_UP_TO: usize = 1 << 17;
+
 /// What the Look system keeps across ticks: the committed hull (destinations), the
 /// sight, and the kept shape (the swarm's hull and box for the Looks).
 type LookState<'w, P> = (
@@ -271,12 +278,12 @@ pub fn look<P: IndexPoint>(
     let inputs = map_events(&lookers, |r| (r, clocks.0[r as usize].cycle, memory(r)));
     // The hull and box the Looks may ask for come from the kept shape (its work done
     // here rather than in Account, at the same tick), refreshed while the index is
-    // readied, each on its own thread on a crowded tick (both are passes of one
-    // thread for the most part).
+    // readied, each on its own thread on a crowded tick of a swarm of at most
+    // `TOGETHER_UP_TO` robots (both are passes of one thread for the most part).
     let pos = &positions.points;
     let clocks_now = &*clocks;
     join_if(
-        lookers.len() >= MANY_EVENTS,
+        lookers.len() >= MANY_EVENTS && pos.len() <= TOGETHER_UP_TO,
         || kept_shape.refresh(|| clocks_now.with_points(pos)),
         || sight.ready(&params, t, pos, lookers.len()),
     );
