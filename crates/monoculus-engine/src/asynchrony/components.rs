@@ -131,7 +131,7 @@ pub struct AsyncClock {
     /// taking a tick costs one map operation per tick, not a heap operation per
     /// robot). A tick's robots may be in both: those scheduled before it came near.
     agenda: BTreeMap<u64, Vec<u32>>,
-    /// Emptied lists of `agenda`, reused.
+    /// Emptied lists of `agenda` and `near`, reused.
     spare: Vec<Vec<u32>>,
     /// A bit per robot, all clear between ticks: where a tick's robots are put in
     /// order (see [`ascending`]).

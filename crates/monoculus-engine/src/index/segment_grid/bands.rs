@@ -185,7 +185,6 @@ impl Bands {
         // (an array made again at every tick with Looks, not cleared first).
         // Padded like `coords`, with no robot.
         pad(&mut items, n, u32::MAX);
-        place.truncate(n);
         place.resize(n, 0);
         // Padded (see [`LANES`]) with points that pass no filter.
         pad(&mut coords, n, [f32::NAN; 2]);
