@@ -215,12 +215,17 @@ impl SegmentGrid {
                         continue;
                     }
                     for s in s0..s1 {
+                        // Which robot a place holds is read only for those that
+                        // pass: in a large swarm a read of `items` is a cache miss of
+                        // its own, and the single-precision pass, whose bound widens
+                        // with the swarm's extent, lets through several slices a line
+                        // where this test lets through about one robot (counted in
+                        // docs/performance.md).
+                        if !near(&g.coords[s]) {
+                            continue;
+                        }
                         let k = g.items[s] as usize;
-                        if near(&g.coords[s])
-                            && k != i
-                            && k != j
-                            && blocks(p, positions.at(k), q, v)
-                        {
+                        if k != i && k != j && blocks(p, positions.at(k), q, v) {
                             return true;
                         }
                     }
