@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Measures every scale target of docs/performance.md once and prints the
 # table (markdown) on stdout: `scripts/performance.sh [REPEATS]` (default 3: rounds are
-# the best of REPEATS stress runs; whole runs are timed once). About 3 to 4 minutes on
+# the best of REPEATS stress runs, ratios the median over REPEATS alternated pairs of
+# runs; whole runs are timed once). About 3 to 4 minutes on
 # 2 cores, with numpy's 12 s if numpy is installed (`pip install numpy`).
 # Details of every run go to results/performance/ (stress logs, results folders).
 set -euo pipefail
@@ -32,21 +33,33 @@ print(f"{best:.4f} {peak:.0f}")
 PY
 }
 
-# Microseconds per activation of the best of REPEATS stress runs.
-per_activation() {
-    local name="$1"; shift
+# A ratio of two stress runs' figures, A's over B's: the median over REPEATS pairs
+# of runs, A then B, so that both sides of a pair see the VM's load of the same
+# minute (the best of each side's runs, taken minutes apart, swung such a ratio
+# from 1.9x to 2.7x). METRIC is "round" (mean round time) or "activation"
+# (microseconds per activation). Prints the ratio, then each side's median figure.
+pair() {
+    local name="$1" metric="$2" a="$3" b="$4"
     for k in $(seq "$repeats"); do
-        "$bin" stress "$@" > "$out/$name.$k.log" 2>&1
+        # shellcheck disable=SC2086
+        "$bin" stress $a > "$out/$name.a.$k.log" 2>&1
+        # shellcheck disable=SC2086
+        "$bin" stress $b > "$out/$name.b.$k.log" 2>&1
     done
-    python3 - "$out" "$name" "$repeats" <<'PY'
-import sys
-out, name, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
-best = 0.0
-for k in range(1, repeats + 1):
-    for line in open(f"{out}/{name}.{k}.log"):
-        if line.startswith("activations_per_s="):
-            best = max(best, float(line.split("=")[1]))
-print(f"{1e6 / best:.3f}")
+    python3 - "$out" "$name" "$repeats" "$metric" <<'PY'
+import statistics, sys
+out, name, repeats, metric = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4]
+def figure(path):
+    for line in open(path):
+        if metric == "round" and line.startswith("rounds="):
+            return float(line.split("mean_round_s=")[1])
+        if metric == "activation" and line.startswith("activations_per_s="):
+            return 1e6 / float(line.split("=")[1])
+    sys.exit(f"{path}: no {metric} figure")
+a = [figure(f"{out}/{name}.a.{k}.log") for k in range(1, repeats + 1)]
+b = [figure(f"{out}/{name}.b.{k}.log") for k in range(1, repeats + 1)]
+ratio = statistics.median(x / y for x, y in zip(a, b))
+print(f"{ratio:.4f} {statistics.median(a):.4f} {statistics.median(b):.4f}")
 PY
 }
 
@@ -61,20 +74,22 @@ PY
 }
 
 read -r cl5 _ < <(stress cl_1e5 --n 100000 --rounds 5)
-read -r cl5_one _ < <(stress cl_1e5_1thread --n 100000 --rounds 5 --threads 1)
-read -r lattice _ < <(stress cl_1e5_lattice --n 100000 --rounds 5 --init lattice)
 read -r cl6 cl6_mb < <(stress cl_1e6 --n 1000000 --rounds 2)
 read -r cq6 cq6_mb < <(stress cq_1e6 --n 1000000 --rounds 3 --algorithm converge_quadrant)
+read -r two_one _ _ < <(pair cl_1e5_threads round \
+    "--n 100000 --rounds 5 --threads 1" "--n 100000 --rounds 5")
+read -r lattice _ _ < <(pair cl_1e5_lattice round \
+    "--n 100000 --rounds 5 --init lattice" "--n 100000 --rounds 5")
 fine="--idle uniform:1:1000 --compute uniform:1:500 --move exp:400"
+read -r fine_ratio fine_act coarse_act < <(pair async_x100_1e4 activation \
+    "--n 10000 --rounds 2 --scheduler async $fine" "--n 10000 --rounds 4 --scheduler async")
 # ASYNC against FSYNC at the same n, runs long enough for this VM's noise.
-fsync_act=$(per_activation fsync_1e4 --n 10000 --rounds 40)
-coarse_long=$(per_activation async_coarse_1e4_long --n 10000 --rounds 10 --scheduler async)
-fsync5=$(per_activation fsync_1e5 --n 100000 --rounds 6)
-coarse_act=$(per_activation async_coarse_1e4 --n 10000 --rounds 4 --scheduler async)
-# shellcheck disable=SC2086
-fine_act=$(per_activation async_x100_1e4 --n 10000 --rounds 2 --scheduler async $fine)
-async5=$(per_activation async_1e5 --n 100000 --rounds 2 --scheduler async)
-async5_one=$(per_activation async_1e5_1thread --n 100000 --rounds 2 --scheduler async --threads 1)
+read -r vs4 coarse_long fsync_act < <(pair async_fsync_1e4 activation \
+    "--n 10000 --rounds 10 --scheduler async" "--n 10000 --rounds 40")
+read -r vs5 async5 fsync5 < <(pair async_fsync_1e5 activation \
+    "--n 100000 --rounds 2 --scheduler async" "--n 100000 --rounds 6")
+read -r async_two_one _ _ < <(pair async_1e5_threads activation \
+    "--n 100000 --rounds 2 --scheduler async --threads 1" "--n 100000 --rounds 2 --scheduler async")
 cl_run=$(whole locality_1e5 configs/bench/locality_1e5.toml)
 cq_run=$(whole quadrant_1e4 configs/bench/quadrant_1e4.toml)
 # The paper's experiments run many runs at once: their elapsed time, not the sum.
@@ -89,27 +104,29 @@ else
     numpy=""
 fi
 
-python3 - "$cl5" "$cl5_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$fsync_act" "$coarse_act" "$fine_act" "$async5" "$async5_one" "$coarse_long" "$fsync5" "$numpy" <<'PY'
+python3 - "$cl5" "$two_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$fsync_act" "$coarse_act" "$fine_act" "$async5" "$fsync5" "$coarse_long" "$fine_ratio" "$vs4" "$vs5" "$async_two_one" "$numpy" <<'PY'
 import sys
-cl5, cl5_one, lattice, cl6, cl6_mb, cq6, cq6_mb, cl_run, cq_run, paper, ours = map(float, sys.argv[1:12])
-fsync_act, coarse_act, fine_act, async5, async5_one, coarse_long, fsync5 = map(float, sys.argv[12:19])
-numpy = float(sys.argv[19]) if sys.argv[19] else None
+cl5, two_one, lattice, cl6, cl6_mb, cq6, cq6_mb, cl_run, cq_run, paper, ours = map(float, sys.argv[1:12])
+fsync_act, coarse_act, fine_act, async5, fsync5, coarse_long = map(float, sys.argv[12:18])
+fine_ratio, vs4, vs5, async_two_one = map(float, sys.argv[18:22])
+numpy = float(sys.argv[22]) if sys.argv[22] else None
 # Rounds are means over the rounds of the best stress run (the first round of
-# ConvergeQuadrant builds what later rounds reuse, and counts in its mean).
+# ConvergeQuadrant builds what later rounds reuse, and counts in its mean); ratios
+# the median over alternated pairs, with each side's median figure.
 rows = [
     ("ConvergeLocality round, n = 10^5 (s)", cl5, cl5 <= 0.15, "<= 0.15"),
     ("ConvergeLocality round, n = 10^6 (s)", cl6, cl6 <= 3.0, "<= 3"),
     ("ConvergeQuadrant round, n = 10^6 (s)", cq6, cq6 <= 0.3, "<= 0.3"),
     ("peak memory, n = 10^6 (MB)", max(cl6_mb, cq6_mb), max(cl6_mb, cq6_mb) <= 300, "<= 300"),
-    ("2 threads against 1, n = 10^5 round", cl5_one / cl5, cl5_one / cl5 >= 1.7, ">= 1.7x"),
+    ("2 threads against 1, n = 10^5 round", two_one, two_one >= 1.7, ">= 1.7x"),
     ("whole ConvergeLocality run, n = 10^5, default settings (s)", cl_run, cl_run <= 45, "<= 45"),
     ("whole ConvergeQuadrant run, n = 10^4 (s)", cq_run, cq_run <= 60, "<= 60"),
     ("configs/paper/ (s)", paper, paper <= 60, "<= 60"),
-    ("lattice against uniform start, n = 10^5 round", lattice / cl5, lattice / cl5 <= 3, "<= 3x"),
-    ("ASYNC x100 against coarse durations, n = 10^4, per activation", fine_act / coarse_act, fine_act / coarse_act <= 1.5, "<= 1.5x"),
-    ("ASYNC coarse against FSYNC, n = 10^4, per activation (us: %.2f against %.2f)" % (coarse_long, fsync_act), coarse_long / fsync_act, coarse_long / fsync_act <= 2, "<= 2x"),
-    ("ASYNC coarse against FSYNC, n = 10^5, per activation (us: %.2f against %.2f)" % (async5, fsync5), async5 / fsync5, async5 / fsync5 <= 2, "<= 2x"),
-    ("ASYNC 2 threads against 1, n = 10^5", async5_one / async5, async5_one / async5 >= 1.6, ">= 1.6x"),
+    ("lattice against uniform start, n = 10^5 round", lattice, lattice <= 3, "<= 3x"),
+    ("ASYNC x100 against coarse durations, n = 10^4, per activation (us: %.2f against %.2f)" % (fine_act, coarse_act), fine_ratio, fine_ratio <= 1.5, "<= 1.5x"),
+    ("ASYNC coarse against FSYNC, n = 10^4, per activation (us: %.2f against %.2f)" % (coarse_long, fsync_act), vs4, vs4 <= 2, "<= 2x"),
+    ("ASYNC coarse against FSYNC, n = 10^5, per activation (us: %.2f against %.2f)" % (async5, fsync5), vs5, vs5 <= 2, "<= 2x"),
+    ("ASYNC 2 threads against 1, n = 10^5", async_two_one, async_two_one >= 1.6, ">= 1.6x"),
 ]
 if numpy is not None:
     rows.append(("numpy against monoculus (1 thread)", numpy / ours, numpy / ours >= 100, ">= 100x"))
