@@ -2,8 +2,8 @@
 # Measures every scale target of docs/performance.md once and prints the
 # table (markdown) on stdout: `scripts/performance.sh [REPEATS]` (default 3: rounds are
 # the best of REPEATS stress runs, ratios the median over REPEATS alternated pairs of
-# runs; whole runs are timed once). About 3 to 4 minutes on
-# 2 cores, with numpy's 12 s if numpy is installed (`pip install numpy`).
+# runs; whole runs are timed once). About 3 minutes on 2 cores, with numpy's 12 s
+# if numpy is installed (`pip install numpy`).
 # Details of every run go to results/performance/ (stress logs, results folders).
 set -euo pipefail
 cd "$(dirname "$0")/.."
