@@ -258,36 +258,39 @@ impl AsyncClock {
         let Some(tick) = near.into_iter().chain(far).min() else {
             return false;
         };
-        let mut due = Vec::new();
-        if near == Some(tick) {
-            let slot = &mut self.near[(tick % NEAR) as usize];
+        // The tick's robots in the ring's slot, in the map, or both (those scheduled
+        // before it came near).
+        let near = (near == Some(tick)).then(|| {
             let fresh = self.spare.pop().unwrap_or_default();
-            due = std::mem::replace(slot, fresh);
+            let due = std::mem::replace(&mut self.near[(tick % NEAR) as usize], fresh);
             self.in_near -= due.len();
-        }
-        if far == Some(tick) {
-            let (_, mut list) = self.agenda.pop_first().expect("the first tick");
-            if due.is_empty() {
-                std::mem::swap(&mut due, &mut list);
-            } else {
-                due.extend_from_slice(&list);
+            due
+        });
+        let far = (far == Some(tick)).then(|| self.agenda.pop_first().expect("the first tick").1);
+        let mut due = match (near, far) {
+            (Some(mut due), Some(far)) => {
+                due.extend_from_slice(&far);
+                self.recycle(far);
+                due
             }
-            if list.capacity() <= SPARE_CAPACITY {
-                list.clear();
-                self.spare.push(list);
-            }
-        }
+            (Some(due), None) | (None, Some(due)) => due,
+            (None, None) => unreachable!("the tick is the first of near and far"),
+        };
         self.tick = tick;
         ascending(&mut due, &mut self.marks, self.done.len());
         std::mem::swap(&mut self.due, &mut due);
-        // Lists are reused, but not the long ones of a crowded tick (a random start
-        // puts a tenth of the swarm on each of the first ticks): kept, they would
-        // hold several times the swarm's worth of room.
-        if due.capacity() <= SPARE_CAPACITY {
-            due.clear();
-            self.spare.push(due);
-        }
+        self.recycle(due);
         true
+    }
+
+    /// Keeps an emptied list for reuse, but not the long ones of a crowded tick (a
+    /// random start puts a tenth of the swarm on each of the first ticks): kept, they
+    /// would hold several times the swarm's worth of room.
+    fn recycle(&mut self, mut list: Vec<u32>) {
+        if list.capacity() <= SPARE_CAPACITY {
+            list.clear();
+            self.spare.push(list);
+        }
     }
 
     /// Sorts the robots of `due` by the phase that ends now: `ends(robot)` is that
