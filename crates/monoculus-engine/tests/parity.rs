@@ -122,3 +122,36 @@ fn backends_agree_with_fat_robots() {
         }
     }
 }
+
+/// Swarms larger than the zoo's, so that at least 64 robots decide in a round and the
+/// indexed engine decides in the order of its grid (neighbours in space one after the
+/// other) while the brute-force engine decides in the robots' own order: random,
+/// lattice and collinear, every algorithm, with the whole range and a limited one
+/// (where every robot decides, those with a memory too). Same decisions, same runs.
+#[test]
+fn deciding_in_the_grids_order_changes_no_decision() {
+    use monoculus_core::init::{InitShape, generate};
+    let swarms = [
+        ("random", common::square(150, 12.0, 3)),
+        (
+            "lattice",
+            generate(&InitShape::Lattice { side: 9.0 }, 100, 3),
+        ),
+        ("line", generate(&InitShape::Line { side: 16.0 }, 80, 3)),
+    ];
+    for kind in AlgorithmKind::ALL {
+        for (name, pts) in &swarms {
+            for range in [f64::INFINITY, 4.0] {
+                let mut cfg = common::config(kind, SchedulerSpec::Fsync, 7);
+                cfg.stop.max_rounds = 15;
+                cfg.vision.range = range;
+                let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
+                cfg.backend = SightBackend::Exact;
+                let mut b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
+                let (oa, ob) = (a.run(), b.run());
+                assert_eq!(oa, ob, "{} on {name}, V = {range}", kind.name());
+                assert_eq!(a.positions(), b.positions(), "{} on {name}", kind.name());
+            }
+        }
+    }
+}

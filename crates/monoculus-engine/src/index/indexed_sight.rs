@@ -7,7 +7,7 @@ use std::sync::OnceLock;
 use monoculus_core::metrics::bounds;
 use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
 
-use super::{IndexPoint, SpatialIndex};
+use super::{IndexPoint, SpatialIndex, SpatialOrder};
 
 /// One snapshot of the swarm with a spatial index over it, built on first use.
 ///
@@ -78,6 +78,12 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
     /// Builds the index now (else it is built by the first query that needs it).
     pub fn build_index(&self) {
         self.index.build(&self.positions);
+    }
+
+    /// The robots in an order that keeps neighbours in space together, once the index
+    /// is [built](IndexedSight::build_index) (in the plane; `None` in space).
+    pub fn order(&self) -> Option<SpatialOrder<'_>> {
+        self.index.order()
     }
 
     /// How many robots moved since the grid in use was built (0 for a fresh one).

@@ -18,5 +18,5 @@ pub use plane_index::PlaneIndex;
 pub(crate) use segment_grid::prefetch;
 pub use segment_grid::{SegmentGrid, Stale};
 pub use space_index::SpaceIndex;
-pub use spatial_index::SpatialIndex;
+pub use spatial_index::{SpatialIndex, SpatialOrder};
 pub use tube::Tube;

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU8, Ordering};
 use glam::DVec2;
 use monoculus_core::vision::{VisionParams, blocks, visible_points_sweep_2d};
 
-use super::{Locate, SegmentGrid, SpatialIndex, Stale, Tube, prefetch};
+use super::{Locate, SegmentGrid, SpatialIndex, SpatialOrder, Stale, Tube, prefetch};
 
 /// The band grid over a snapshot in the plane.
 pub struct PlaneIndex {
@@ -259,6 +259,11 @@ impl SpatialIndex<DVec2> for PlaneIndex {
     fn build(&self, pos: &[DVec2]) {
         self.grid
             .get_or_init(|| Box::new(SegmentGrid::new_parallel(pos)));
+    }
+
+    /// The robots as the grid's horizontal bands hold them: band by band, cell by cell.
+    fn order(&self) -> Option<SpatialOrder<'_>> {
+        self.grid.get().map(|g| g.order())
     }
 
     fn stale_robots(&self) -> usize {

@@ -7,6 +7,16 @@ use monoculus_core::vision::VisionParams;
 
 use super::Locate;
 
+/// Every robot once, in an order in which robots near one another in space are near
+/// one another ([`SpatialIndex::order`]), and each robot's rank in it.
+#[derive(Clone, Copy, Debug)]
+pub struct SpatialOrder<'a> {
+    /// The robots, in order.
+    pub robots: &'a [u32],
+    /// Robot `k` is `robots[rank[k]]`.
+    pub rank: &'a [u32],
+}
+
 /// An index over the positions of one snapshot, built on first use. Every query is given
 /// where the robots are (`pos`: the positions the index was made for, or, for a
 /// [moving](SpatialIndex::moving) index, where they are now); every answer ends in the
@@ -82,6 +92,13 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// any parallel section: queries inside one would wait for whichever thread
     /// builds it.
     fn build(&self, _pos: &[P]) {}
+
+    /// The robots in an order that keeps those near one another in space together, if
+    /// the index has one [built](SpatialIndex::build): decisions taken in that order
+    /// share the parts of the index their queries read.
+    fn order(&self) -> Option<SpatialOrder<'_>> {
+        None
+    }
 
     /// Robots that moved since the index in use was built (0 for a fresh one), or, of a
     /// moving index, the stale ones.

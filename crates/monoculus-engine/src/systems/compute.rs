@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use crate::components::{Activated, Intent, Memory, Robot};
 use crate::faults::{Role, byzantine_move};
+use crate::index::SpatialOrder;
 use crate::resources::{Clock, Params, Snapshot, SnapshotSight};
 use crate::{IndexPoint, SchedulerSpec};
 
@@ -70,6 +71,48 @@ type RobotItem<'a, P> = (
     Option<Mut<'a, Memory>>,
 );
 
+type Robots<'w, 's, P> = Query<
+    'w,
+    's,
+    (
+        &'static Robot,
+        &'static Activated,
+        &'static mut Intent<P>,
+        Option<&'static mut Memory>,
+    ),
+>;
+
+/// Deciding robots from which they decide in parallel (fewer: on this thread).
+const FEW: usize = 64;
+
+/// The robots that decide this round, a bit each, and how many they are; the intents of
+/// the others are cleared. Whether any of them has a memory.
+fn deciding<P: IndexPoint, S: Sight<P>>(
+    params: &Params,
+    sight: &S,
+    robots: &mut Robots<'_, '_, P>,
+) -> (Vec<u64>, usize, bool) {
+    let mut bits = vec![0u64; sight.len().div_ceil(64)];
+    let (mut count, mut with_memory) = (0, false);
+    for (robot, active, mut intent, memory) in robots.iter_mut() {
+        let k = robot.index as usize;
+        if active.0 && may_move(params, sight, k) {
+            bits[k / 64] |= 1 << (k % 64);
+            count += 1;
+            with_memory |= memory.is_some();
+        } else if intent.0.is_some() {
+            intent.0 = None;
+        }
+    }
+    (bits, count, with_memory)
+}
+
+/// Whether robot `k` is among `bits`.
+#[inline]
+fn holds(bits: &[u64], k: usize) -> bool {
+    bits[k / 64] & (1 << (k % 64)) != 0
+}
+
 fn decide_item<P: IndexPoint, S: Sight<P>>(
     params: &Params,
     round: u64,
@@ -81,32 +124,25 @@ fn decide_item<P: IndexPoint, S: Sight<P>>(
         .map(|d| realise(params, i, round, d));
 }
 
-/// Decides for every activated robot: those [`certainly_stays`] vouches for at once,
-/// the others gathered a batch at a time (a list of all query items would cost about
-/// 100 bytes per robot at the memory peak) and decided in parallel, or on this thread
-/// when there are only a few (ConvergeQuadrant: the robots on the bounding box).
-fn compute_all<P: IndexPoint, S: Sight<P>>(
+/// Decides for the robots of `bits` in the order of the robots' entities, gathered a
+/// batch at a time (a list of all query items would cost about 100 bytes per robot at
+/// the memory peak) and decided in parallel, or on this thread when there are only a
+/// few (ConvergeQuadrant: the robots on the bounding box).
+fn decide_batched<P: IndexPoint, S: Sight<P>>(
     params: &Params,
     round: u64,
     sight: &S,
-    robots: &mut Query<(&Robot, &Activated, &mut Intent<P>, Option<&mut Memory>)>,
+    bits: &[u64],
+    robots: &mut Robots<'_, '_, P>,
 ) {
     const BATCH: usize = 1 << 16;
-    const FEW: usize = 64;
-    let mut robots = robots.iter_mut();
+    let mut robots = robots
+        .iter_mut()
+        .filter(|(robot, ..)| holds(bits, robot.index as usize));
     let mut items: Vec<RobotItem<'_, P>> = Vec::new();
     loop {
         items.clear();
-        for (robot, active, mut intent, memory) in robots.by_ref() {
-            if active.0 && may_move(params, sight, robot.index as usize) {
-                items.push((robot, active, intent, memory));
-                if items.len() == BATCH {
-                    break;
-                }
-            } else if intent.0.is_some() {
-                intent.0 = None;
-            }
-        }
+        items.extend(robots.by_ref().take(BATCH));
         if items.is_empty() {
             break;
         }
@@ -123,17 +159,106 @@ fn compute_all<P: IndexPoint, S: Sight<P>>(
     }
 }
 
+/// Decides for the robots of `bits` in parallel, taken in `order`, so that the robots
+/// one thread decides one after the other are neighbours whose queries read the same
+/// cells of the index (at 10^6 robots and more, most of what a decision reads comes
+/// from memory otherwise). The decisions (and memories) are kept by rank, then handed
+/// to the robots in the order of their entities. The same decisions as
+/// [`decide_batched`]: each depends only on the robot, the round and the sight.
+fn decide_in_order<P: IndexPoint, S: Sight<P>>(
+    params: &Params,
+    round: u64,
+    sight: &S,
+    order: SpatialOrder<'_>,
+    (bits, with_memory): (&[u64], bool),
+    robots: &mut Robots<'_, '_, P>,
+) {
+    let n = order.robots.len();
+    let mut memories: Vec<Option<RobotMemory>> = Vec::new();
+    if with_memory {
+        memories.resize(n, None);
+        for (robot, _, _, memory) in robots.iter() {
+            let k = robot.index as usize;
+            if holds(bits, k) {
+                memories[order.rank[k] as usize] = memory.map(|m| m.0);
+            }
+        }
+    }
+    let decide = |r: usize, memory: Option<&mut RobotMemory>| {
+        let k = order.robots[r] as usize;
+        if !holds(bits, k) {
+            return None;
+        }
+        decide_one(params, sight, k, round, memory).map(|d| realise(params, k, round, d))
+    };
+    let mut decided: Vec<Option<P>> = vec![None; n];
+    if with_memory {
+        decided
+            .par_iter_mut()
+            .zip(memories.par_iter_mut())
+            .enumerate()
+            .with_min_len(32)
+            .for_each(|(r, (d, m))| *d = decide(r, m.as_mut()));
+    } else {
+        decided
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(32)
+            .for_each(|(r, d)| *d = decide(r, None));
+    }
+    for (robot, _, mut intent, memory) in robots.iter_mut() {
+        let k = robot.index as usize;
+        if !holds(bits, k) {
+            continue;
+        }
+        let r = order.rank[k] as usize;
+        intent.0 = decided[r];
+        if let (Some(mut stored), Some(m)) = (memory, memories.get(r).copied().flatten())
+            && stored.0 != m
+        {
+            stored.0 = m;
+        }
+    }
+}
+
+/// Decides for every activated robot: those [`certainly_stays`] vouches for at once,
+/// the others in parallel, in the `order` of the sight's index if it has one and they
+/// are many.
+fn compute_all<'a, P: IndexPoint, S: Sight<P>>(
+    params: &Params,
+    round: u64,
+    sight: &'a S,
+    order: impl FnOnce() -> Option<SpatialOrder<'a>>,
+    robots: &mut Robots<'_, '_, P>,
+) {
+    let (bits, count, with_memory) = deciding(params, sight, robots);
+    if count >= FEW
+        && let Some(order) = order().filter(|o| o.robots.len() == Sight::len(sight))
+    {
+        return decide_in_order(params, round, sight, order, (&bits, with_memory), robots);
+    }
+    decide_batched(params, round, sight, &bits, robots);
+}
+
 /// Compute: every activated robot decides against the Look snapshot, in parallel
 /// (rayon); the result does not depend on the number of threads.
 pub fn compute_intents<P: IndexPoint>(
     params: Res<Params>,
     clock: Res<Clock>,
     snapshot: Res<Snapshot<P>>,
-    mut robots: Query<(&Robot, &Activated, &mut Intent<P>, Option<&mut Memory>)>,
+    mut robots: Robots<P>,
 ) {
     match snapshot.sight.as_ref().expect("Look runs before Compute") {
-        SnapshotSight::Index(s) => compute_all(&params, clock.round, s, &mut robots),
-        SnapshotSight::Exact(s) => compute_all(&params, clock.round, s, &mut robots),
-        SnapshotSight::Rtree(s) => compute_all(&params, clock.round, s, &mut robots),
+        SnapshotSight::Index(s) => {
+            let order = || {
+                // Built here, its two layouts in parallel, not by the first decision
+                // while the other threads wait.
+                s.build_index();
+                s.order()
+            };
+            compute_all(&params, clock.round, s, order, &mut robots);
+        }
+        SnapshotSight::Exact(s) => compute_all(&params, clock.round, s, || None, &mut robots),
+        SnapshotSight::Rtree(s) => compute_all(&params, clock.round, s, || None, &mut robots),
     }
 }

@@ -34,6 +34,8 @@ mod walk;
 
 use monoculus_core::geometry::Point;
 
+use super::SpatialOrder;
+
 use bands::{BAND, Bands, CELL, Level};
 pub(crate) use prefetch::prefetch;
 pub use stale::Stale;
@@ -200,6 +202,16 @@ impl SegmentGrid {
     /// than the one around it.
     pub fn cell_size(&self) -> f64 {
         self.rows.parts.last().expect("a first part").spacing
+    }
+
+    /// Every robot once, as the horizontal bands hold them (part by part, band by band,
+    /// cell by cell), with each robot's rank there.
+    pub fn order(&self) -> SpatialOrder<'_> {
+        let n = self.len();
+        SpatialOrder {
+            robots: &self.rows.items[..n],
+            rank: &self.rows.place,
+        }
     }
 
     /// The number of parts of each layout (1 unless the swarm is crowded).
