@@ -400,12 +400,6 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         let mut out = Vec::with_capacity(NEIGHBOURS);
         let grid = self.grid(pos);
         grid.near_few(p.x, p.y, i, NEIGHBOURS, &mut out);
-        // Robots are mostly decided in index order, each thread a run of them: the next
-        // one's cells are asked for now (a hint, no effect on results).
-        if i + 1 < grid.len() {
-            let next = pos.at(i + 1);
-            grid.prefetch_near(next.x, next.y, grid.cell_size());
-        }
         // The first few are asked about at once (`count_visible_up_to`): their positions,
         // for the lines of sight (a hint, no effect on results).
         for &k in out.iter().take(4) {

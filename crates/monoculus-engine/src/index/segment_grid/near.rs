@@ -25,19 +25,6 @@ impl SegmentGrid {
             .map(|(_, p)| p)
     }
 
-    /// Asks for the cell bounds [`SegmentGrid::for_each_near`] reads first around
-    /// `(x, y)` within `radius` (a hint).
-    #[inline]
-    pub fn prefetch_near(&self, x: f64, y: f64, radius: f64) {
-        let g = &self.rows;
-        for part in self.parts_near(x, y, radius) {
-            let c = part.cell(x - radius);
-            for r in part.band(y - radius)..=part.band(y + radius) {
-                prefetch(&g.start[part.row(r) + c]);
-            }
-        }
-    }
-
     /// Calls `f` with every robot whose cell meets the square of half-side `radius`
     /// around `(x, y)` (a superset of the robots within `radius`).
     pub fn for_each_near(&self, x: f64, y: f64, radius: f64, f: &mut dyn FnMut(usize)) {
