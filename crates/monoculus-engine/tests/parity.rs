@@ -127,7 +127,8 @@ fn backends_agree_with_fat_robots() {
 /// indexed engine decides in the order of its grid (neighbours in space one after the
 /// other) while the brute-force engine decides in the robots' own order: random,
 /// lattice and collinear, every algorithm, with the whole range and a limited one
-/// (where every robot decides, those with a memory too). Same decisions, same runs.
+/// (where every robot decides, those with a memory too), under FSYNC and, with part
+/// of the robots active, SSYNC. Same decisions, same runs.
 #[test]
 fn deciding_in_the_grids_order_changes_no_decision() {
     use monoculus_core::init::{InitShape, generate};
@@ -139,10 +140,18 @@ fn deciding_in_the_grids_order_changes_no_decision() {
         ),
         ("line", generate(&InitShape::Line { side: 16.0 }, 80, 3)),
     ];
+    let ssync = SchedulerSpec::Ssync {
+        p: 0.7,
+        fairness: None,
+    };
     for kind in AlgorithmKind::ALL {
         for (name, pts) in &swarms {
-            for range in [f64::INFINITY, 4.0] {
-                let mut cfg = common::config(kind, SchedulerSpec::Fsync, 7);
+            for (scheduler, range) in [
+                (SchedulerSpec::Fsync, f64::INFINITY),
+                (SchedulerSpec::Fsync, 4.0),
+                (ssync.clone(), f64::INFINITY),
+            ] {
+                let mut cfg = common::config(kind, scheduler, 7);
                 cfg.stop.max_rounds = 15;
                 cfg.vision.range = range;
                 let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
