@@ -191,21 +191,21 @@ fn decide_in_order<P: IndexPoint, S: Sight<P>>(
         }
         decide_one(params, sight, k, round, memory).map(|d| realise(params, k, round, d))
     };
-    let mut decided: Vec<Option<P>> = vec![None; n];
-    if with_memory {
-        decided
+    // Collected in rank order (each written once, in parallel).
+    let decided: Vec<Option<P>> = if with_memory {
+        memories
             .par_iter_mut()
-            .zip(memories.par_iter_mut())
             .enumerate()
             .with_min_len(32)
-            .for_each(|(r, (d, m))| *d = decide(r, m.as_mut()));
+            .map(|(r, m)| decide(r, m.as_mut()))
+            .collect()
     } else {
-        decided
-            .par_iter_mut()
-            .enumerate()
+        (0..n)
+            .into_par_iter()
             .with_min_len(32)
-            .for_each(|(r, d)| *d = decide(r, None));
-    }
+            .map(|r| decide(r, None))
+            .collect()
+    };
     for (robot, _, mut intent, memory) in robots.iter_mut() {
         let k = robot.index as usize;
         if !holds(bits, k) {
