@@ -2,8 +2,20 @@
 
 mod common;
 
+use glam::DVec2;
 use monoculus_core::prelude::*;
 use monoculus_engine::prelude::*;
+
+/// Runs `cfg` on `pts` with its backend and with `other`, and asserts that both give
+/// the same outcome and the same final positions.
+fn assert_backends_agree(cfg: &SimConfig, other: SightBackend, pts: &[DVec2], what: &str) {
+    let mut a = Simulation::new(cfg.clone(), pts.to_vec()).unwrap();
+    let mut other_cfg = cfg.clone();
+    other_cfg.backend = other;
+    let mut b = Simulation::new(other_cfg, pts.to_vec()).unwrap();
+    assert_eq!(a.run(), b.run(), "{what}");
+    assert_eq!(a.positions(), b.positions(), "{what}");
+}
 
 #[test]
 fn indexed_and_exact_backends_give_identical_runs() {
@@ -11,13 +23,8 @@ fn indexed_and_exact_backends_give_identical_runs() {
         for (name, pts) in common::zoo(1) {
             let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
             cfg.stop.max_rounds = 60;
-            let a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-            cfg.backend = SightBackend::Exact;
-            let b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-            let (mut a, mut b) = (a, b);
-            let (oa, ob) = (a.run(), b.run());
-            assert_eq!(oa, ob, "{} on {name}", kind.name());
-            assert_eq!(a.positions(), b.positions(), "{} on {name}", kind.name());
+            let what = format!("{} on {name}", kind.name());
+            assert_backends_agree(&cfg, SightBackend::Exact, &pts, &what);
         }
     }
 }
@@ -32,11 +39,7 @@ fn backends_agree_with_the_listing_reference() {
         let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 5);
         cfg.algorithm.target = TargetPolicy::RandomListing;
         cfg.stop.max_rounds = 60;
-        let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-        cfg.backend = SightBackend::Exact;
-        let mut b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-        assert_eq!(a.run(), b.run(), "{name}");
-        assert_eq!(a.positions(), b.positions(), "{name}");
+        assert_backends_agree(&cfg, SightBackend::Exact, &pts, name);
     }
 }
 
@@ -51,12 +54,8 @@ fn backends_agree_with_a_limited_range() {
                 let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
                 cfg.stop.max_rounds = 40;
                 cfg.vision.range = range;
-                let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-                cfg.backend = SightBackend::Exact;
-                let mut b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-                let (oa, ob) = (a.run(), b.run());
-                assert_eq!(oa, ob, "{} on {name}, V = {range}", kind.name());
-                assert_eq!(a.positions(), b.positions());
+                let what = format!("{} on {name}, V = {range}", kind.name());
+                assert_backends_agree(&cfg, SightBackend::Exact, &pts, &what);
             }
         }
     }
@@ -70,17 +69,8 @@ fn an_rtree_in_the_plane_gives_the_same_runs() {
         for (name, pts) in common::zoo(1) {
             let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
             cfg.stop.max_rounds = 60;
-            let mut grid = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-            cfg.backend = SightBackend::Rtree;
-            let mut tree = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-            let (og, ot) = (grid.run(), tree.run());
-            assert_eq!(og, ot, "{} on {name}", kind.name());
-            assert_eq!(
-                grid.positions(),
-                tree.positions(),
-                "{} on {name}",
-                kind.name()
-            );
+            let what = format!("{} on {name}", kind.name());
+            assert_backends_agree(&cfg, SightBackend::Rtree, &pts, &what);
         }
     }
     // And under ASYNC, where every Look builds its own sight.
@@ -91,10 +81,7 @@ fn an_rtree_in_the_plane_gives_the_same_runs() {
     );
     cfg.stop.max_rounds = 30;
     let pts = common::square(60, 8.0, 2);
-    let a = Simulation::new(cfg.clone(), pts.clone()).unwrap().run();
-    cfg.backend = SightBackend::Rtree;
-    let b = Simulation::new(cfg.clone(), pts).unwrap().run();
-    assert_eq!(a, b);
+    assert_backends_agree(&cfg, SightBackend::Rtree, &pts, "ASYNC");
 }
 
 /// Fat robots (SPEC 9.3): the engine's index (the R-tree) gives the runs of the
@@ -113,12 +100,8 @@ fn backends_agree_with_fat_robots() {
             let mut cfg = common::config(kind, SchedulerSpec::Fsync, 3);
             cfg.stop.max_rounds = 15;
             cfg.vision.robot_radius = radius;
-            let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-            cfg.backend = SightBackend::Exact;
-            let mut b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-            let (oa, ob) = (a.run(), b.run());
-            assert_eq!(oa, ob, "{} on {name}, r = {radius}", kind.name());
-            assert_eq!(a.positions(), b.positions());
+            let what = format!("{} on {name}, r = {radius}", kind.name());
+            assert_backends_agree(&cfg, SightBackend::Exact, &pts, &what);
         }
     }
 }
@@ -154,12 +137,8 @@ fn deciding_in_the_grids_order_changes_no_decision() {
                 let mut cfg = common::config(kind, scheduler, 7);
                 cfg.stop.max_rounds = 15;
                 cfg.vision.range = range;
-                let mut a = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-                cfg.backend = SightBackend::Exact;
-                let mut b = Simulation::new(cfg.clone(), pts.clone()).unwrap();
-                let (oa, ob) = (a.run(), b.run());
-                assert_eq!(oa, ob, "{} on {name}, V = {range}", kind.name());
-                assert_eq!(a.positions(), b.positions(), "{} on {name}", kind.name());
+                let what = format!("{} on {name}, V = {range}", kind.name());
+                assert_backends_agree(&cfg, SightBackend::Exact, pts, &what);
             }
         }
     }
