@@ -134,10 +134,10 @@ fn deciding_in_the_grids_order_changes_no_decision() {
                 (SchedulerSpec::Fsync, 4.0),
                 (ssync.clone(), f64::INFINITY),
             ] {
+                let what = format!("{} on {name}, {scheduler:?}, V = {range}", kind.name());
                 let mut cfg = common::config(kind, scheduler, 7);
                 cfg.stop.max_rounds = 15;
                 cfg.vision.range = range;
-                let what = format!("{} on {name}, V = {range}", kind.name());
                 assert_backends_agree(&cfg, SightBackend::Exact, pts, &what);
             }
         }
