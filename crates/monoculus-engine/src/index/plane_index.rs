@@ -185,7 +185,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         base.clear();
         fill(&mut base);
         let n = base.len();
-        let grid = (*grid).moving_again(&base, one_tick);
+        let grid = (*grid).moving_again(&base, one_tick, true);
         let mut stale = self.stale;
         stale.empty(n);
         let mut discs = moving.discs;

@@ -50,7 +50,9 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// The index [`SpatialIndex::moving`] makes over the points `fill` writes into an
     /// empty vector, made in the memory of `self`, a moving index over as many robots
     /// that is done with: its arrays are emptied and filled again rather than freed and
-    /// allocated (under ASYNC the index is made again every few ticks).
+    /// allocated (under ASYNC the index is made again every few ticks). It may size its
+    /// cells as `self` did while the swarm stays in the box it was made for (the band
+    /// grid does, for up to 16 indexes in a row): the answers are the same.
     fn moving_again(self, fill: impl FnOnce(&mut Vec<P>), one_tick: bool) -> Option<Self> {
         Self::moving_filled(fill, one_tick)
     }

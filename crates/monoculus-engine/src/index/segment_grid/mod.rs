@@ -42,6 +42,9 @@ pub use stale::Stale;
 
 /// At most about this many cells per robot in each layout of a grid...
 const MOST_CELLS: f64 = 16.0;
+/// A moving grid made again may size its cells as the one before did, at most this many
+/// times in a row (see [`SegmentGrid::moving_again`]).
+const KEEP_SIZING: u32 = 16;
 /// ...and of a [moving](SegmentGrid::moving) one.
 pub const MOST_MOVING_CELLS: f64 = 4.0;
 
@@ -61,35 +64,80 @@ pub struct SegmentGrid {
     rounding: f64,
     /// Whether the stored coordinates are finite (else every robot is a candidate).
     single: bool,
+    /// Whether its crowded core, if any, has nested parts.
+    nested: bool,
+    /// How many grids in a row, up to this one, were sized as the one before them (0:
+    /// this one was sized afresh).
+    kept: u32,
 }
 
 impl SegmentGrid {
     /// A grid over the first two coordinates of `points`.
     pub fn new<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(None, points, false, MOST_CELLS, true)
+        Self::build(None, points, false, MOST_CELLS, true, false)
     }
 
     /// The same, its two layouts built at once on two threads of the current rayon
     /// pool. Not from inside a parallel section whose tasks may ask for this grid:
     /// a thread waiting on the second layout may run such a task meanwhile.
     pub fn new_parallel<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(None, points, true, MOST_CELLS, true)
+        Self::build(None, points, true, MOST_CELLS, true, false)
     }
 
     /// A grid with at most about `most` times as many cells per layout as robots, its
-    /// crowded core in nested parts if `nested`; in the arrays of `spare` if given.
+    /// crowded core in nested parts if `nested`; in the arrays of `spare` if given, and
+    /// with its parts if `keep` and [they serve](SegmentGrid::kept_levels).
     fn build<P: Point + Sync>(
         spare: Option<SegmentGrid>,
         points: &[P],
         parallel: bool,
         most: f64,
         nested: bool,
+        keep: bool,
     ) -> Self {
-        let (first, sample, quartile) = first_level(points, most, parallel);
-        if !nested {
-            return Self::with_levels(spare, points, &[first], parallel);
+        let kept = spare
+            .as_ref()
+            .filter(|_| keep)
+            .and_then(|g| g.kept_levels(points, nested));
+        if let Some((levels, kept)) = kept {
+            let mut grid = Self::with_levels(spare, points, &levels, parallel);
+            (grid.nested, grid.kept) = (nested, kept);
+            return grid;
         }
-        Self::with_levels(spare, points, &sample.levels(first, quartile), parallel)
+        let (first, sample, quartile) = first_level(points, most, parallel);
+        let levels = if nested {
+            sample.levels(first, quartile)
+        } else {
+            vec![first]
+        };
+        let mut grid = Self::with_levels(spare, points, &levels, parallel);
+        grid.nested = nested;
+        grid
+    }
+
+    /// The levels of this grid's parts, for a grid of the same kind (`nested`) made
+    /// again over `points`, with the number of grids in a row then sized alike; `None`
+    /// where the grid is to be sized afresh: after [`KEEP_SIZING`] grids in a row sized
+    /// alike, for another number of robots or kind, or where a point lies outside the
+    /// first part's box (its cells are then those of a grid over points that moved
+    /// within its box, which every query answers as one sized afresh: tested).
+    fn kept_levels<P: Point>(&self, points: &[P], nested: bool) -> Option<(Vec<Level>, u32)> {
+        if self.kept + 1 >= KEEP_SIZING || nested != self.nested || points.len() != self.len() {
+            return None;
+        }
+        let within = points.iter().all(|p| self.covers(p.axis(0), p.axis(1)));
+        within.then(|| (self.levels(), self.kept + 1))
+    }
+
+    /// The levels of the grid's parts, outermost first.
+    fn levels(&self) -> Vec<Level> {
+        (self.rows.parts.iter())
+            .map(|p| Level {
+                lo: p.origin,
+                hi: p.top,
+                spacing: p.spacing,
+            })
+            .collect()
     }
 
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
@@ -101,16 +149,20 @@ impl SegmentGrid {
     /// walks must be given widens them by as many of its cells (in a nested part, by
     /// many more of the finer ones).
     pub fn moving<P: Point + Sync>(points: &[P], nested: bool) -> Self {
-        Self::build(None, points, true, MOST_MOVING_CELLS, nested)
+        Self::build(None, points, true, MOST_MOVING_CELLS, nested, false)
     }
 
     /// The same as [`SegmentGrid::moving`], made in the arrays of `self` (emptied and
     /// filled again, none allocated): the grid of ASYNC's Looks is made again every
     /// few ticks, and arrays freed and allocated each time were handed their pages
     /// afresh by the system (measured in docs/performance.md). The grid is that of
-    /// [`SegmentGrid::moving`] (tested).
-    pub fn moving_again<P: Point + Sync>(self, points: &[P], nested: bool) -> Self {
-        Self::build(Some(self), points, true, MOST_MOVING_CELLS, nested)
+    /// [`SegmentGrid::moving`] (tested), unless `keep`: then its cells are sized as
+    /// those of `self` wherever every point lies in its box, up to [`KEEP_SIZING`]
+    /// grids in a row. The swarm hardly changes from one tick to the next, and sizing
+    /// the cells (ranking a sample of the robots on both axes) was a few percent of an
+    /// ASYNC run made of grids for one tick (measured in docs/performance.md).
+    pub fn moving_again<P: Point + Sync>(self, points: &[P], nested: bool, keep: bool) -> Self {
+        Self::build(Some(self), points, true, MOST_MOVING_CELLS, nested, keep)
     }
 
     /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of
@@ -177,6 +229,8 @@ impl SegmentGrid {
             // filter trusts single precision only while coordinates are finite there.
             rounding: longest * 2f64.powi(-24),
             single: longest < 1e30,
+            nested: true,
+            kept: 0,
         }
     }
 

@@ -39,19 +39,6 @@ fn lattice_30() -> Vec<DVec2> {
         .collect()
 }
 
-impl SegmentGrid {
-    /// The levels of the grid's parts.
-    fn levels(&self) -> Vec<Level> {
-        (self.rows.parts.iter())
-            .map(|p| Level {
-                lo: p.origin,
-                hi: p.top,
-                spacing: p.spacing,
-            })
-            .collect()
-    }
-}
-
 /// A grid over `pts` with the parts of `like` (whose box must hold `pts`).
 fn grid_like(like: &SegmentGrid, pts: &[DVec2]) -> SegmentGrid {
     SegmentGrid::with_levels(None, pts, &like.levels(), false)
@@ -680,7 +667,7 @@ fn a_grid_made_again_in_the_arrays_of_another_is_the_one_made_afresh() {
         let nested = t % 2 == 0;
         let fresh = SegmentGrid::moving(pts, nested);
         let mut grid = match used.take() {
-            Some(old) => old.moving_again(pts, nested),
+            Some(old) => old.moving_again(pts, nested, false),
             None => SegmentGrid::moving(pts, nested),
         };
         assert!(grid.rows.reach.is_empty(), "swarm {t}: no disc yet");
@@ -698,5 +685,76 @@ fn a_grid_made_again_in_the_arrays_of_another_is_the_one_made_afresh() {
         }
         assert_eq!(grid.rows.reach.len(), grid.rows.coords.len());
         used = Some(grid);
+    }
+}
+
+/// A moving grid made again keeping its sizing has the parts of the grid before it
+/// while every robot stays in its box, and answers lines of sight as the definition
+/// does; it is sized afresh after [`KEEP_SIZING`] grids in a row, once a robot leaves
+/// the box, and for the other kind of grid: on crowded, random and lattice swarms
+/// shrinking towards their centres (so that sizing afresh would give other parts).
+#[test]
+fn a_grid_made_again_keeping_its_sizing_has_the_parts_before_until_it_must_not() {
+    let v = VisionParams::default();
+    let mut rng = Stream::new(23, 0, 0, 0);
+    let swarms = [
+        (crowded_square(&mut rng), true),
+        (pinned_square(&mut rng), false),
+        (lattice_30(), true),
+    ];
+    for (s, (swarm, nested)) in swarms.into_iter().enumerate() {
+        let n = swarm.len();
+        let shrink = |pts: &mut Vec<DVec2>| {
+            let centre = pts.iter().sum::<DVec2>() / n as f64;
+            for p in pts.iter_mut() {
+                *p = centre + (*p - centre) * 0.97;
+            }
+        };
+        let mut pts = swarm;
+        let mut grid = SegmentGrid::moving(&pts, nested);
+        let first = grid.levels();
+        let mut differs = false;
+        for t in 1..KEEP_SIZING {
+            shrink(&mut pts);
+            grid = grid.moving_again(&pts, nested, true);
+            assert_eq!(grid.kept, t, "swarm {s}");
+            let like = SegmentGrid::with_levels(None, &pts, &first, true);
+            let fresh = SegmentGrid::moving(&pts, nested);
+            for (a, b) in [(&grid.rows, &like.rows), (&grid.columns, &like.columns)] {
+                assert!(same_layout(a, b), "swarm {s}, grid {t}, run {}", a.run);
+            }
+            differs |= !same_layout(&grid.rows, &fresh.rows);
+            for _ in 0..40 {
+                let (i, j) = (rng.below(n), rng.below(n));
+                if i != j {
+                    let expect = brute(&pts, i, j, &v);
+                    let got = grid.blocked(pts.as_slice(), i, j, &v, 0.0);
+                    assert_eq!(got, expect, "swarm {s}, grid {t}: {i} -> {j}");
+                }
+            }
+        }
+        assert!(differs, "swarm {s}: sizing afresh gives the same parts");
+        let afresh = |grid: &SegmentGrid, pts: &[DVec2], nested: bool, what: &str| {
+            let fresh = SegmentGrid::moving(pts, nested);
+            assert_eq!(grid.kept, 0, "swarm {s}: {what}");
+            for (a, b) in [(&grid.rows, &fresh.rows), (&grid.columns, &fresh.columns)] {
+                assert!(same_layout(a, b), "swarm {s}: {what}, run {}", a.run);
+            }
+        };
+        // The sixteenth in a row.
+        shrink(&mut pts);
+        grid = grid.moving_again(&pts, nested, true);
+        afresh(&grid, &pts, nested, "after 16 in a row");
+        // A robot outside the box.
+        grid = grid.moving_again(&pts, nested, true);
+        assert_eq!(grid.kept, 1, "swarm {s}");
+        pts[7] = DVec2::new(grid.hi[0] + 0.5, pts[7].y);
+        grid = grid.moving_again(&pts, nested, true);
+        afresh(&grid, &pts, nested, "a robot outside");
+        // The other kind, and without keeping.
+        grid = grid.moving_again(&pts, !nested, true);
+        afresh(&grid, &pts, !nested, "the other kind");
+        grid = grid.moving_again(&pts, !nested, false);
+        afresh(&grid, &pts, !nested, "not kept");
     }
 }
