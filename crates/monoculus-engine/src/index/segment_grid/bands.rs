@@ -150,19 +150,13 @@ pub(super) struct Bands {
 }
 
 impl Bands {
-    /// A layout with a part per level (the first over the box of every point, each next
-    /// one nested in the one before); `lo` (x, y) is the swarm's lower corner, origin
-    /// of the stored coordinates. Made in the arrays of `spare` (a layout made before,
-    /// or an empty one), which are emptied and filled again: a grid made again and
-    /// again (ASYNC's moving index) neither allocates its arrays nor has the system
-    /// hand it their pages anew each time.
-    pub(super) fn new<P: Point>(
-        spare: Bands,
-        points: &[P],
-        run: usize,
-        levels: &[Level],
-        lo: [f64; 2],
-    ) -> Self {
+    /// An empty layout with a part per level (the first over the box of every point,
+    /// each next one nested in the one before), sized for `n` robots, made in the arrays
+    /// of `spare` (a layout made before, or an empty one): a grid made again and again
+    /// (ASYNC's moving index) neither allocates its arrays nor has the system hand it
+    /// their pages anew each time. [`cells_of_both`] then writes each robot's cell in
+    /// `place`, and [`Bands::sort`] files the robots.
+    pub(super) fn empty(spare: Bands, n: usize, run: usize, levels: &[Level]) -> Self {
         let Bands {
             mut parts,
             mut start,
@@ -179,10 +173,9 @@ impl Bands {
             total += part.cells * part.bands;
             parts.push(part);
         }
-        let n = points.len();
         refill(&mut start, total + 1, 0);
-        // Every robot's entry of these is written below: only the padding is set here
-        // (an array made again at every tick with Looks, not cleared first).
+        // Every robot's entry of these is written by `sort`: only the padding is set
+        // here (an array made again at every tick with Looks, not cleared first).
         // Padded like `coords`, with no robot.
         pad(&mut items, n, u32::MAX);
         place.resize(n, 0);
@@ -190,7 +183,7 @@ impl Bands {
         pad(&mut coords, n, [f32::NAN; 2]);
         // Until a robot is given a disc, every one is at its point.
         reach.clear();
-        let mut grid = Bands {
+        Bands {
             run,
             parts,
             start,
@@ -198,49 +191,33 @@ impl Bands {
             place,
             coords,
             reach,
-        };
-        let across = 1 - run;
-        let cell = |part: &Part, p: &P| {
-            (part.row(part.band(p.axis(across))) + part.cell(p.axis(run))) as u32
-        };
-        // Each robot's cell, held in `place` until its place there is known.
-        if let [part] = &grid.parts[..] {
-            for (slot, p) in grid.place.iter_mut().zip(points) {
-                *slot = cell(part, p);
-            }
-        } else {
-            for (slot, p) in grid.place.iter_mut().zip(points) {
-                let level = levels[1..]
-                    .iter()
-                    .rposition(|l| l.holds(p))
-                    .map_or(0, |k| k + 1);
-                *slot = cell(&grid.parts[level], p);
-            }
         }
-        // A counting sort with no second array of cells (a grid can have 16n of them):
-        // each cell's end, then its robots placed from the last one down, which leaves
-        // its start there and its robots ascending.
-        for &k in &grid.place {
-            grid.start[k as usize] += 1;
+    }
+
+    /// Files the robots of `points` in their cells, which `place` holds (written by
+    /// [`cells_of_both`]); `lo` (x, y) is the swarm's lower corner, origin of the stored
+    /// coordinates. A counting sort with no second array of cells (a grid can have 16n
+    /// of them): each cell's end, then its robots placed from the last one down, which
+    /// leaves its start there and its robots ascending.
+    pub(super) fn sort<P: Point>(&mut self, points: &[P], lo: [f64; 2]) {
+        let total = self.start.len() - 1;
+        for &k in &self.place {
+            self.start[k as usize] += 1;
         }
         let mut end = 0;
-        for c in &mut grid.start[..total] {
+        for c in &mut self.start[..total] {
             end += *c;
             *c = end;
         }
-        grid.start[total] = end;
-        for i in (0..n).rev() {
-            let k = grid.place[i] as usize;
-            grid.start[k] -= 1;
-            let at = grid.start[k] as usize;
-            grid.items[at] = i as u32;
-            grid.place[i] = at as u32;
-            grid.coords[at] = [
-                (points[i].axis(0) - lo[0]) as f32,
-                (points[i].axis(1) - lo[1]) as f32,
-            ];
+        self.start[total] = end;
+        for (i, p) in points.iter().enumerate().rev() {
+            let k = self.place[i] as usize;
+            self.start[k] -= 1;
+            let at = self.start[k] as usize;
+            self.items[at] = i as u32;
+            self.place[i] = at as u32;
+            self.coords[at] = [(p.axis(0) - lo[0]) as f32, (p.axis(1) - lo[1]) as f32];
         }
-        grid
     }
 
     /// The robots of band `r` of `part` in cells `c0..=c1`: indices into `items` and
@@ -255,6 +232,45 @@ impl Bands {
     ) -> std::ops::Range<usize> {
         let row = part.row(r);
         self.start[row + c0] as usize..self.start[row + c1 + 1] as usize
+    }
+}
+
+/// Each robot's cell in the two layouts of one grid, `rows` (bands running along x) and
+/// `columns` (along y), [made empty](Bands::empty) over the same `levels`, written in
+/// their `place` (the robots of `points` from the `first`). A robot is in the innermost
+/// level whose box holds it. The two share their arithmetic: a band is two cells high
+/// (`BAND` is twice `CELL`), so that a robot's band in one layout is its cell across in
+/// the other halved, bit for bit as if computed on its own (tested): the coordinate in
+/// units of bands is that in units of cells halved (a power of two, exact), as are the
+/// last band and last cell, and rounding down commutes with the halving.
+pub(super) fn cells_of_both<P: Point>(
+    rows: &mut [u32],
+    columns: &mut [u32],
+    points: &[P],
+    row_parts: &[Part],
+    column_parts: &[Part],
+    levels: &[Level],
+) {
+    const { assert!(BAND == 2.0 * CELL) };
+    let cells = |level: usize, p: &P| {
+        let (r, c) = (&row_parts[level], &column_parts[level]);
+        // Cells along x and along y, in each layout's part.
+        let (cx, cy) = (r.cell(p.axis(0)), c.cell(p.axis(1)));
+        ((r.row(cy >> 1) + cx) as u32, (c.row(cx >> 1) + cy) as u32)
+    };
+    let slots = rows.iter_mut().zip(columns.iter_mut()).zip(points);
+    if let [_] = levels {
+        for ((a, b), p) in slots {
+            (*a, *b) = cells(0, p);
+        }
+    } else {
+        for ((a, b), p) in slots {
+            let level = levels[1..]
+                .iter()
+                .rposition(|l| l.holds(p))
+                .map_or(0, |k| k + 1);
+            (*a, *b) = cells(level, p);
+        }
     }
 }
 

@@ -36,10 +36,15 @@ use monoculus_core::geometry::Point;
 
 use super::SpatialOrder;
 
-use bands::{BAND, Bands, CELL, Level};
+use bands::{BAND, Bands, CELL, Level, cells_of_both};
 pub(crate) use prefetch::prefetch;
+use rayon::prelude::*;
 pub use stale::Stale;
 
+/// The fewest robots whose cells one thread finds while another finds those of more
+/// (in a smaller swarm, one pass on one thread takes less than handing half to another
+/// thread could save: ASYNC makes a grid at every tick with Looks).
+const CELLS_STRETCH: usize = 1 << 14;
 /// At most about this many cells per robot in each layout of a grid...
 const MOST_CELLS: f64 = 16.0;
 /// A moving grid made again may size its cells as the one before did, at most this many
@@ -214,12 +219,34 @@ impl SegmentGrid {
         let Level { lo, hi, .. } = levels[0];
         let longest = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         let (rows, columns) = spare.map_or_else(Default::default, |g| (g.rows, g.columns));
-        let layout = |spare, run| Bands::new(spare, points, run, levels, lo);
-        let (rows, columns) = if parallel {
-            rayon::join(|| layout(rows, 0), || layout(columns, 1))
-        } else {
-            (layout(rows, 0), layout(columns, 1))
+        let n = points.len();
+        let (mut rows, mut columns) = (
+            Bands::empty(rows, n, 0, levels),
+            Bands::empty(columns, n, 1, levels),
+        );
+        // Each robot's cells in both layouts, in one pass (in stretches on all threads
+        // if `parallel`), then the two layouts filed, one a thread if `parallel`.
+        let (row_parts, column_parts) = (&rows.parts[..], &columns.parts[..]);
+        let cells = |(a, b): (&mut [u32], &mut [u32]), p: &[P]| {
+            cells_of_both(a, b, p, row_parts, column_parts, levels);
         };
+        if parallel && n >= 2 * CELLS_STRETCH {
+            let stretch = n
+                .div_ceil(2 * rayon::current_num_threads())
+                .max(CELLS_STRETCH);
+            (rows.place.par_chunks_mut(stretch))
+                .zip(columns.place.par_chunks_mut(stretch))
+                .zip(points.par_chunks(stretch))
+                .for_each(|(slots, p)| cells(slots, p));
+        } else {
+            cells((&mut rows.place, &mut columns.place), points);
+        }
+        if parallel {
+            rayon::join(|| rows.sort(points, lo), || columns.sort(points, lo));
+        } else {
+            rows.sort(points, lo);
+            columns.sort(points, lo);
+        }
         SegmentGrid {
             rows,
             columns,

@@ -758,3 +758,59 @@ fn a_grid_made_again_keeping_its_sizing_has_the_parts_before_until_it_must_not()
         afresh(&grid, &pts, !nested, "not kept");
     }
 }
+
+/// Every robot is filed in the cell its own band and cell give in each layout, computed
+/// for that layout alone (the two layouts' cells are found together, a band from the
+/// other layout's cell halved): on random, crowded (nested parts), lattice, collinear
+/// and far-off swarms, with robots on cell and band edges and on the box's far edges.
+#[test]
+fn each_robot_is_filed_in_the_cell_of_its_own_band_and_cell() {
+    let mut rng = Stream::new(29, 0, 0, 0);
+    let far = DVec2::new(-3.0e9, 7.0e11);
+    let mut edges: Vec<DVec2> = (0..30)
+        .flat_map(|i| (0..30).map(move |j| DVec2::new(i as f64 * 0.5, j as f64 * 1.5)))
+        .collect();
+    edges.push(DVec2::new(14.5, 43.5));
+    let swarms = [
+        pinned_square(&mut rng),
+        crowded_square(&mut rng),
+        lattice_30(),
+        (0..300).map(|k| DVec2::splat(k as f64 * 0.25)).collect(),
+        (0..500)
+            .map(|_| far + DVec2::new(rng.uniform(), rng.uniform()) * 1e3)
+            .collect(),
+        edges,
+    ];
+    for (s, pts) in swarms.iter().enumerate() {
+        let box_of = |g: &SegmentGrid| (g.lo, g.hi);
+        let (lo, hi) = box_of(&SegmentGrid::new(pts));
+        // Cells of 0.5 and 0.1 (edges on the lattice's points; not a binary fraction).
+        let grids = [
+            SegmentGrid::new(pts),
+            SegmentGrid::moving(pts, false),
+            SegmentGrid::with_spacing(pts, 0.5, lo, hi, false),
+            SegmentGrid::with_spacing(pts, 0.1, lo, hi, true),
+        ];
+        for grid in grids {
+            for g in [&grid.rows, &grid.columns] {
+                let across = 1 - g.run;
+                for (k, p) in pts.iter().enumerate() {
+                    let level = grid.levels()[1..]
+                        .iter()
+                        .rposition(|l| l.holds(p))
+                        .map_or(0, |l| l + 1);
+                    let part = &g.parts[level];
+                    let cell = part.row(part.band(p.axis(across))) + part.cell(p.axis(g.run));
+                    let at = g.place[k];
+                    assert_eq!(g.items[at as usize], k as u32);
+                    let (from, to) = (g.start[cell], g.start[cell + 1]);
+                    assert!(
+                        from <= at && at < to,
+                        "swarm {s}, run {}: robot {k} at {p} not in cell {cell}",
+                        g.run
+                    );
+                }
+            }
+        }
+    }
+}
