@@ -104,19 +104,17 @@ impl SegmentGrid {
             .as_ref()
             .filter(|_| keep)
             .and_then(|g| g.kept_levels(points, nested));
-        if let Some((levels, kept)) = kept {
-            let mut grid = Self::with_levels(spare, points, &levels, parallel);
-            (grid.nested, grid.kept) = (nested, kept);
-            return grid;
-        }
-        let (first, sample, quartile) = first_level(points, most, parallel);
-        let levels = if nested {
-            sample.levels(first, quartile)
-        } else {
-            vec![first]
-        };
+        let (levels, kept) = kept.unwrap_or_else(|| {
+            let (first, sample, quartile) = first_level(points, most, parallel);
+            let levels = if nested {
+                sample.levels(first, quartile)
+            } else {
+                vec![first]
+            };
+            (levels, 0)
+        });
         let mut grid = Self::with_levels(spare, points, &levels, parallel);
-        grid.nested = nested;
+        (grid.nested, grid.kept) = (nested, kept);
         grid
     }
 
