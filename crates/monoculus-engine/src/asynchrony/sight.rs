@@ -25,9 +25,9 @@ use crate::systems::build_sight;
 /// whose disc would reach farther than the grid's limit (two cells, or 1.25 after a
 /// grid that served long) from where the grid holds it is stale: tested one by one.
 /// The grid is made again at the first tick with Looks after its last tick, or when
-/// too many robots are stale. So a tick costs
-/// its events and its Looks, whatever the time resolution. Every answer is that of a
-/// sight taken afresh over the tick's positions (tested, with robots in mid-move).
+/// too many robots are stale. So a tick costs its events and its Looks, whatever the
+/// time resolution. Every answer is that of a sight taken afresh over the tick's
+/// positions (tested, with robots in mid-move).
 ///
 /// Elsewhere (space, the brute-force and R-tree backends, fat robots) a sight is taken
 /// afresh at every tick with Looks.
@@ -222,9 +222,9 @@ impl<P: IndexPoint> LookSight<P> {
     /// a stretch of ticks would take would cost them more than making an index at
     /// every tick with Looks), it serves this tick only, with every robot at its point.
     /// Otherwise robots may go [`LIMIT`] cells from their points ([`SHORT_LIMIT`] after
-    /// a grid that served [`LONG_LIFE`] ticks), and it serves until
-    /// all but half the stale limit of the robots in mid-move would have gone farther;
-    /// every robot in mid-move is given its disc up to that tick.
+    /// a grid that served [`LONG_LIFE`] ticks), and it serves until all but half the
+    /// stale limit of the robots in mid-move would have gone farther; every robot in
+    /// mid-move is given its disc up to that tick.
     fn remake(&mut self, tick: u64, settled: &[P]) -> Option<Moving<P>> {
         let old = self.moving.take();
         let rate = old.as_ref().map_or(f64::INFINITY, |m| {

@@ -237,12 +237,13 @@ impl Bands {
 
 /// Each robot's cell in the two layouts of one grid, `rows` (bands running along x) and
 /// `columns` (along y), [made empty](Bands::empty) over the same `levels`, written in
-/// their `place` (the robots of `points` from the `first`). A robot is in the innermost
-/// level whose box holds it. The two share their arithmetic: a band is two cells high
-/// (`BAND` is twice `CELL`), so that a robot's band in one layout is its cell across in
-/// the other halved, bit for bit as if computed on its own (tested): the coordinate in
-/// units of bands is that in units of cells halved (a power of two, exact), as are the
-/// last band and last cell, and rounding down commutes with the halving.
+/// their `place` (or stretches of it, slot for slot with `points`). A robot is in the
+/// innermost level whose box holds it. The two share their arithmetic: a band is two
+/// cells high (`BAND` is twice `CELL`), so that a robot's band in one layout is its
+/// cell across in the other halved, bit for bit as if computed on its own (tested):
+/// the coordinate in units of bands is that in units of cells halved (a power of two,
+/// exact), as are the last band and last cell, and rounding down commutes with the
+/// halving.
 pub(super) fn cells_of_both<P: Point>(
     rows: &mut [u32],
     columns: &mut [u32],
