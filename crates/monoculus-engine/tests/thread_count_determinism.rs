@@ -80,3 +80,25 @@ fn async_results_do_not_depend_on_thread_count() {
         assert_eq!(pa, pb, "{threads} threads");
     }
 }
+
+#[test]
+fn async_results_at_fine_durations_do_not_depend_on_thread_count() {
+    // Durations of tens of ticks: a tick has a few Looks, shared between threads from
+    // two on, each against a moving index kept for stretches of ticks. Two epochs,
+    // then the run's outcome and every position.
+    let spec = AsyncSpec {
+        idle: TickDist::Uniform { min: 1, max: 100 },
+        compute: TickDist::Uniform { min: 1, max: 50 },
+        motion: TickDist::Exponential { mean: 40.0 },
+        start: AsyncStart::Random,
+    };
+    let kind = AlgorithmKind::ConvergeLocality;
+    let scheduler = SchedulerSpec::Async(spec);
+    let (a, pa) = run_sized(1, kind, scheduler.clone(), 600, 2);
+    assert!(a.activations >= 2 * 600, "{a:?}");
+    for threads in [2, 5] {
+        let (b, pb) = run_sized(threads, kind, scheduler.clone(), 600, 2);
+        assert_eq!(a, b, "{threads} threads");
+        assert_eq!(pa, pb, "{threads} threads");
+    }
+}

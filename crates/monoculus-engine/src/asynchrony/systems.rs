@@ -211,7 +211,10 @@ pub(crate) fn positions_now<P: IndexPoint>(
     pts
 }
 
-/// The lookers' decisions; a robot crashed by `epoch` (SPEC 9.1: at its first Look at or
+/// The lookers' decisions, shared between threads from two Looks on (a Look costs
+/// tens of microseconds, more than waking the other thread, and the Looks of a tick
+/// differ in cost, so that they are split as finely as rayon will: measured in
+/// docs/performance.md); a robot crashed by `epoch` (SPEC 9.1: at its first Look at or
 /// after its crash epoch) stays, its memory as it was.
 fn decide_all<P: IndexPoint, S: Sight<P>>(
     params: &Params,
@@ -221,7 +224,6 @@ fn decide_all<P: IndexPoint, S: Sight<P>>(
 ) -> Vec<(Option<P>, Option<RobotMemory>)> {
     inputs
         .par_iter()
-        .with_min_len(16)
         .map(|&(r, cycle, memory)| {
             if let Some(Role::Crashed { from }) = params.faults.as_ref().map(|f| f.role(r as usize))
                 && epoch >= from
