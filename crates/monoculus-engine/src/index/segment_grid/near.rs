@@ -3,6 +3,7 @@
 
 use super::SegmentGrid;
 use super::bands::Part;
+use super::filter::LANES;
 use super::prefetch::prefetch;
 
 impl SegmentGrid {
@@ -74,7 +75,8 @@ impl SegmentGrid {
     /// is within `radius + drift` (of a [moving](SegmentGrid::moving) grid: whose disc
     /// comes within `radius`), with room for the rounding of stored coordinates. The
     /// test reads the cells' own coordinates, so that a crowded cell costs no read of
-    /// the robots' positions beyond the few that pass.
+    /// the robots' positions beyond the few that pass. `drift` bounds every stored reach
+    /// (each rounded up by at most a millionth of it).
     pub fn for_each_reaching(
         &self,
         x: f64,
@@ -93,28 +95,64 @@ impl SegmentGrid {
             + 16.0 * f64::EPSILON * extent
             + 1e-9 * radius;
         let (rx, ry) = (x - self.lo[0], y - self.lo[1]);
-        let near = |s: usize, reach: f64| {
-            let [u, v] = g.coords[s].map(f64::from);
-            let within = radius + reach + room;
-            let (du, dv) = (u - rx, v - ry);
-            du * du + dv * dv <= within * within
+        // Each robot is tested first against a square around the query point in single
+        // precision, which holds every stored point that the double-precision test
+        // keeps. That test keeps a point u (a stored coordinate, exact in single
+        // precision) only if |u - r| <= T (1 + 2^-50), T its radius (`within`, or
+        // `radius + reach + room`), r the query's coordinate; the square tests
+        // fl(u - fl(r)), off from u - r by at most 2^-24 |r| + 2^-24 |u - fl(r)|, so
+        // by at most 2^-23 (T + |r|) for a kept point, against a half-side
+        // B >= T + 2^-21 (T + |rx| + |ry|): `box32(w, d)` rounds up
+        // w + 2^-20 (w + d + |rx| + |ry|), and a disc's half-side adds its reach
+        // (at most `drift` (1 + 2^-19), as stored rounded up) to that of
+        // `radius + room` in single precision, losing at most 2^-24 of the sum.
+        // Tested at the boundary, also from far outside the swarm's box.
+        let r32 = [rx as f32, ry as f32];
+        let box32 = |w: f64, reach: f64| {
+            let slack = 2f64.powi(-20) * (w + reach + rx.abs() + ry.abs());
+            let b = (w + slack) as f32;
+            if f64::from(b) < w + slack {
+                b.next_up()
+            } else {
+                b
+            }
         };
+        #[inline(always)]
+        fn near(&[u, v]: &[f32; 2], rx: f64, ry: f64, within: f64) -> bool {
+            let (du, dv) = (f64::from(u) - rx, f64::from(v) - ry);
+            du * du + dv * dv <= within * within
+        }
         for part in self.parts_near(x, y, wide) {
             let (c0, c1) = (part.cell(x - wide), part.cell(x + wide));
             for r in part.band(y - wide)..=part.band(y + wide) {
                 let slice = g.cells_range(part, r, c0, c1);
+                // A band's robots tested LANES at a time, branch-free, in single
+                // precision, into a mask (a radius query in a crowded core reads
+                // hundreds, few of which pass); those that pass, in double precision.
+                let coords = &g.coords;
                 if g.reach.is_empty() {
-                    for s in slice {
-                        if near(s, drift) {
-                            f(g.items[s] as usize);
-                        }
-                    }
+                    let within = radius + drift + room;
+                    let b = box32(within, drift);
+                    each_passing(
+                        slice,
+                        f,
+                        &g.items,
+                        |s| in_boxes(lanes(coords, s), r32, |_| b),
+                        |s| near(&coords[s], rx, ry, within),
+                    );
                 } else {
-                    for s in slice {
-                        if near(s, f64::from(g.reach[s])) {
-                            f(g.items[s] as usize);
-                        }
-                    }
+                    let reach = &g.reach;
+                    let b = box32(radius + room, drift);
+                    each_passing(
+                        slice,
+                        f,
+                        &g.items,
+                        |s| {
+                            let room = lanes(reach, s);
+                            in_boxes(lanes(coords, s), r32, |l| b + room[l])
+                        },
+                        |s| near(&coords[s], rx, ry, radius + f64::from(reach[s]) + room),
+                    );
                 }
             }
         }
@@ -146,5 +184,51 @@ impl SegmentGrid {
                 })
             })
         })
+    }
+}
+
+/// The [`LANES`] entries of `v` from `s` on (a layout's arrays are padded so that a
+/// chunk may run past the robots: those lanes are masked out).
+#[inline(always)]
+fn lanes<T>(v: &[T], s: usize) -> &[T; LANES] {
+    <&[T; LANES]>::try_from(&v[s..s + LANES]).expect("LANES entries")
+}
+
+/// Whether each of the [`LANES`] stored points `chunk` lies in the square of half-side
+/// `b(lane)` around `q`, each coordinate of the chunk tested on its own, branch-free.
+#[inline(always)]
+fn in_boxes(chunk: &[[f32; 2]; LANES], q: [f32; 2], b: impl Fn(usize) -> f32) -> [bool; LANES] {
+    let flat = chunk.as_flattened();
+    let within: [bool; 2 * LANES] =
+        std::array::from_fn(|i| (flat[i] - q[i & 1]).abs() <= b(i >> 1));
+    std::array::from_fn(|l| within[2 * l] & within[2 * l + 1])
+}
+
+/// Calls `f(items[s])` for each place `s` of `places` (ascending) that passes both
+/// tests: `chunk(s)`, which tests the [`LANES`] places from `s` at once, branch-free,
+/// so that a chunk costs no branch unless one of its robots passes, then `exact(s)`.
+#[inline(always)]
+fn each_passing(
+    places: std::ops::Range<usize>,
+    f: &mut dyn FnMut(usize),
+    items: &[u32],
+    chunk: impl Fn(usize) -> [bool; LANES],
+    exact: impl Fn(usize) -> bool,
+) {
+    let mut s = places.start;
+    while s < places.end {
+        let mut mask = 0u32;
+        for (l, pass) in chunk(s).into_iter().enumerate() {
+            mask |= u32::from(pass) << l;
+        }
+        mask &= (1 << LANES.min(places.end - s)) - 1;
+        while mask != 0 {
+            let at = s + mask.trailing_zeros() as usize;
+            if exact(at) {
+                f(items[at] as usize);
+            }
+            mask &= mask - 1;
+        }
+        s += LANES;
     }
 }

@@ -339,3 +339,72 @@ fn the_single_precision_filter_keeps_blockers_it_cannot_resolve() {
     }
     assert!(blocked > 200, "only {blocked} of 400 placements block");
 }
+
+/// A radius query lists every robot within its radius, also those exactly on it: the
+/// single-precision box the query tests first never drops one that the double-precision
+/// test keeps. Random, crowded and lattice swarms, near the origin and shifted far from
+/// it (large stored and query coordinates), asked from a robot or from far outside;
+/// radii at which robots sit exactly on the boundary, tiny ones, and those of a grid
+/// whose robots carry discs just reaching the query point.
+#[test]
+fn radius_queries_keep_robots_on_the_boundary() {
+    let mut rng = Stream::new(11, 0, 0, 0);
+    for (name, base) in [
+        ("random", pinned_square(&mut rng)),
+        ("crowded", crowded_square(&mut rng)),
+        ("lattice", lattice_30()),
+    ] {
+        for shift in [DVec2::ZERO, DVec2::new(3.0e6, -7.5e5)] {
+            let pts: Vec<DVec2> = base.iter().map(|&p| p + shift).collect();
+            let at_rest = SegmentGrid::new(&pts);
+            // Each robot of the moving grid carries a disc of its own around its
+            // point: reach `reach[k]`, every one within the drift.
+            let mut moving = SegmentGrid::moving(&pts, false);
+            let reach: Vec<f64> = (0..pts.len()).map(|k| (k % 5) as f64 * 0.01).collect();
+            let drift = 0.04 * (1.0 + 1e-9);
+            for (k, &p) in pts.iter().enumerate() {
+                moving.set_disc(k, [p.x, p.y], reach[k]);
+            }
+            for t in 0..90 {
+                let i = rng.below(pts.len());
+                // From a robot, or from far outside the swarm's box (a stale robot's
+                // query), where the radius is large and the query point's rounding to
+                // single precision is more than the stored points' room.
+                // Or straight across from robot `j` along an axis, where the box is as
+                // tight as the disc.
+                let j = rng.below(pts.len());
+                let far = rng.uniform_in(1e3, 4e5);
+                let p = match t % 4 {
+                    0 => {
+                        pts[i]
+                            + DVec2::new(rng.uniform_in(-1.0, 1.0), rng.uniform_in(-1.0, 1.0)) * 4e5
+                    }
+                    1 => {
+                        pts[j] + [DVec2::X, DVec2::NEG_X, DVec2::Y, DVec2::NEG_Y][(t / 4) % 4] * far
+                    }
+                    _ => pts[i],
+                };
+                for radius in [p.distance(pts[j]), 0.0, 1e-9, 0.5, 2.5] {
+                    let mut got = vec![];
+                    at_rest.for_each_reaching(p.x, p.y, radius, 0.0, &mut |k| got.push(k));
+                    for (k, &q) in pts.iter().enumerate() {
+                        if q.distance(p) <= radius {
+                            assert!(
+                                got.contains(&k),
+                                "{name} {shift}: {k} within {radius} of {i}"
+                            );
+                        }
+                    }
+                    // Discs that come within the radius, those just touching it too.
+                    let mut got = vec![];
+                    moving.for_each_reaching(p.x, p.y, radius, drift, &mut |k| got.push(k));
+                    for (k, &q) in pts.iter().enumerate() {
+                        if q.distance(p) <= radius + reach[k] {
+                            assert!(got.contains(&k), "{name} {shift}: disc {k} near {i}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
