@@ -58,47 +58,43 @@ fn results_do_not_depend_on_thread_count() {
     }
 }
 
-#[test]
-fn async_results_do_not_depend_on_thread_count() {
-    // 1,500 robots Looking together, then cycles of a few ticks: ticks of hundreds of
-    // events, whose work (sorting the tick's robots, the structures told of moves that
-    // start and end, the Looks) is shared between threads. Three epochs, then the
-    // run's outcome and every position.
-    let spec = AsyncSpec {
-        idle: TickDist::Uniform { min: 1, max: 3 },
-        compute: TickDist::Uniform { min: 1, max: 2 },
-        motion: TickDist::Exponential { mean: 2.0 },
-        start: AsyncStart::Together,
-    };
+/// ConvergeLocality under ASYNC with `spec`, `n` robots for `epochs` epochs, on 1, 2
+/// and 5 threads: the same outcome and every position.
+fn async_is_the_same_on_any_thread_count(spec: AsyncSpec, n: usize, epochs: u64) {
     let kind = AlgorithmKind::ConvergeLocality;
     let scheduler = SchedulerSpec::Async(spec);
-    let (a, pa) = run_sized(1, kind, scheduler.clone(), 1500, 3);
-    assert!(a.activations >= 3 * 1500, "{a:?}");
+    let (a, pa) = run_sized(1, kind, scheduler.clone(), n, epochs);
+    assert!(a.activations >= epochs * n as u64, "{a:?}");
     for threads in [2, 5] {
-        let (b, pb) = run_sized(threads, kind, scheduler.clone(), 1500, 3);
+        let (b, pb) = run_sized(threads, kind, scheduler.clone(), n, epochs);
         assert_eq!(a, b, "{threads} threads");
         assert_eq!(pa, pb, "{threads} threads");
     }
 }
 
 #[test]
+fn async_results_do_not_depend_on_thread_count() {
+    // 1,500 robots Looking together, then cycles of a few ticks: ticks of hundreds of
+    // events, whose work (sorting the tick's robots, the structures told of moves that
+    // start and end, the Looks) is shared between threads. Three epochs.
+    let spec = AsyncSpec {
+        idle: TickDist::Uniform { min: 1, max: 3 },
+        compute: TickDist::Uniform { min: 1, max: 2 },
+        motion: TickDist::Exponential { mean: 2.0 },
+        start: AsyncStart::Together,
+    };
+    async_is_the_same_on_any_thread_count(spec, 1500, 3);
+}
+
+#[test]
 fn async_results_at_fine_durations_do_not_depend_on_thread_count() {
     // Durations of tens of ticks: a tick has a few Looks, shared between threads from
-    // two on, each against a moving index kept for stretches of ticks. Two epochs,
-    // then the run's outcome and every position.
+    // two on, each against a moving index kept for stretches of ticks. Two epochs.
     let spec = AsyncSpec {
         idle: TickDist::Uniform { min: 1, max: 100 },
         compute: TickDist::Uniform { min: 1, max: 50 },
         motion: TickDist::Exponential { mean: 40.0 },
         start: AsyncStart::Random,
     };
-    let kind = AlgorithmKind::ConvergeLocality;
-    let scheduler = SchedulerSpec::Async(spec);
-    let (a, pa) = run_sized(1, kind, scheduler.clone(), 600, 2);
-    assert!(a.activations >= 2 * 600, "{a:?}");
-    for threads in [2, 5] {
-        let (b, pb) = run_sized(threads, kind, scheduler.clone(), 600, 2);
-        assert_eq!(a, b, "{threads} threads");
-        assert_eq!(pa, pb, "{threads} threads");
-    }
+    async_is_the_same_on_any_thread_count(spec, 600, 2);
 }
