@@ -367,12 +367,11 @@ fn radius_queries_keep_robots_on_the_boundary() {
             }
             for t in 0..90 {
                 let i = rng.below(pts.len());
-                // From a robot, or from far outside the swarm's box (a stale robot's
-                // query), where the radius is large and the query point's rounding to
-                // single precision is more than the stored points' room.
-                // Or straight across from robot `j` along an axis, where the box is as
-                // tight as the disc.
                 let j = rng.below(pts.len());
+                // From far outside the swarm's box (a stale robot's query: the radius
+                // is large, and the query point's rounding to single precision more
+                // than the stored points' room), from straight across robot `j` along
+                // an axis (where the square is as tight as the disc), or from a robot.
                 let far = rng.uniform_in(1e3, 4e5);
                 let p = match t % 4 {
                     0 => {
