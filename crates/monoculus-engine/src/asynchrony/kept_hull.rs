@@ -26,9 +26,11 @@ use crate::IndexPoint;
 pub(crate) struct KeptHull<P> {
     /// The core, counter-clockwise; empty where nothing is left out.
     core: Vec<P>,
-    /// A disc and a box inside the core: the cheap first tests.
+    /// A disc and boxes inside the core: the cheap first tests.
     core_disc: (P, f64),
-    core_box: Option<(P, P)>,
+    core_box: InnerBoxes<P>,
+    /// The core's bounding box (in the plane): a point outside is not inside.
+    core_bounds: Option<(P, P)>,
     /// Counts the cores chosen (what was classified against the core must be again when
     /// it changes).
     generation: u64,
@@ -43,9 +45,11 @@ pub(crate) struct KeptHull<P> {
     kept: Roster<P>,
     /// The hull of the kept points (once `ready`, unless `shrunk`).
     hull: Vec<P>,
-    /// A disc and a box inside `hull`.
+    /// A disc and boxes inside `hull`.
     hull_disc: (P, f64),
-    hull_box: Option<(P, P)>,
+    hull_box: InnerBoxes<P>,
+    /// The bounding box of `hull` (in the plane).
+    hull_bounds: Option<(P, P)>,
     /// Points kept outside `hull` since it was taken.
     grown: Vec<P>,
     /// Whether a point that may be a vertex of `hull` was removed.
@@ -73,31 +77,77 @@ fn outside_fraction(n: usize, depth: u32) -> f64 {
     ((256.0 / n.max(1) as f64).max(1.0 / 32.0) * f64::from(1u32 << depth)).min(1.0)
 }
 
-/// A box strictly inside the convex polygon `poly` (counter-clockwise, in the plane):
-/// its bounding box shrunk about the mean of its vertices until the four corners are
-/// strictly inside (then so is the whole box); `None` if that fails or in space.
-fn inner_box<P: IndexPoint>(poly: &[P]) -> Option<(P, P)> {
+/// Closed boxes strictly inside a convex polygon, tried before its exact test: one
+/// shrunk about the mean of its vertices, one nearly as wide as the polygon and one
+/// nearly as tall (a polygon with its corners cut, such as a swarm's hull, holds a
+/// cross of them beside the first); `None` where none fits.
+pub(crate) type InnerBoxes<P> = [Option<(P, P)>; 3];
+
+/// [`InnerBoxes`] of the convex polygon `poly` (counter-clockwise, in the plane): its
+/// bounding box scaled about the mean of its vertices, by the same factor on both axes
+/// or by nearly one on one axis, each the largest tried whose four corners are strictly
+/// inside (then so is the whole box); none in space or for fewer than three vertices.
+pub(crate) fn inner_boxes<P: IndexPoint>(poly: &[P]) -> InnerBoxes<P> {
     if P::DIM != 2 || poly.len() < 3 {
-        return None;
+        return [None; 3];
     }
     let (lo, hi) = monoculus_core::metrics::bounds(poly);
     let centre = poly.iter().fold(P::zero(), |c, &v| c + v) * (1.0 / poly.len() as f64);
     let at = |x: f64, y: f64| P::unit_axis(0) * x + P::unit_axis(1) * y;
-    [0.95, 0.9, 0.8, 0.7, 0.6, 0.5, 0.35]
-        .into_iter()
-        .find_map(|s| {
-            let (a, b) = (centre + (lo - centre) * s, centre + (hi - centre) * s);
-            let corners = [
-                at(a.axis(0), a.axis(1)),
-                at(b.axis(0), a.axis(1)),
-                at(b.axis(0), b.axis(1)),
-                at(a.axis(0), b.axis(1)),
-            ];
-            corners
-                .iter()
-                .all(|&c| P::strictly_inside(poly, c))
-                .then_some((a, b))
+    // The bounding box scaled by `sx` across and `sy` down, if it fits.
+    let scaled = |sx: f64, sy: f64| {
+        let shrink = |c: f64, v: f64, s: f64| c + (v - c) * s;
+        let (x0, x1) = (
+            shrink(centre.axis(0), lo.axis(0), sx),
+            shrink(centre.axis(0), hi.axis(0), sx),
+        );
+        let (y0, y1) = (
+            shrink(centre.axis(1), lo.axis(1), sy),
+            shrink(centre.axis(1), hi.axis(1), sy),
+        );
+        [at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1)]
+            .iter()
+            .all(|&c| P::strictly_inside(poly, c))
+            .then_some((at(x0, y0), at(x1, y1)))
+    };
+    const EVEN: [f64; 9] = [0.95, 0.925, 0.9, 0.85, 0.8, 0.7, 0.6, 0.5, 0.35];
+    const NEARLY_ALL: [f64; 2] = [0.99, 0.97];
+    const ACROSS: [f64; 6] = [0.9, 0.8, 0.7, 0.6, 0.5, 0.35];
+    let long = |wide: bool| {
+        NEARLY_ALL.iter().find_map(|&long| {
+            ACROSS.iter().find_map(|&short| {
+                if wide {
+                    scaled(long, short)
+                } else {
+                    scaled(short, long)
+                }
+            })
         })
+    };
+    [
+        EVEN.iter().find_map(|&s| scaled(s, s)),
+        long(true),
+        long(false),
+    ]
+}
+
+/// The bounding box of the convex polygon `poly` in the plane (`None` in space, or for
+/// fewer than three vertices): every point strictly inside the polygon is in it.
+fn outer_box<P: IndexPoint>(poly: &[P]) -> Option<(P, P)> {
+    (P::DIM == 2 && poly.len() >= 3).then(|| monoculus_core::metrics::bounds(poly))
+}
+
+/// Whether `p` may lie strictly inside a polygon with the bounding box `bounds`: it
+/// lies in that closed box, or there is none.
+#[inline]
+fn may_be_in<P: IndexPoint>(bounds: Option<(P, P)>, p: P) -> bool {
+    bounds.is_none_or(|b| in_box(Some(b), p))
+}
+
+/// Whether `p` lies in one of the closed boxes.
+#[inline]
+pub(crate) fn in_boxes<P: IndexPoint>(boxes: &InnerBoxes<P>, p: P) -> bool {
+    boxes.iter().any(|&b| in_box(b, p))
 }
 
 /// Whether `p` lies in the closed box (if any).
@@ -172,7 +222,8 @@ impl<P: IndexPoint> KeptHull<P> {
         KeptHull {
             core: Vec::new(),
             core_disc: inner_disc(&[]),
-            core_box: None,
+            core_box: [None; 3],
+            core_bounds: None,
             generation: 0,
             shrinks: 0,
             lost: Vec::new(),
@@ -180,7 +231,8 @@ impl<P: IndexPoint> KeptHull<P> {
             kept: Roster::sparse(),
             hull: Vec::new(),
             hull_disc: inner_disc(&[]),
-            hull_box: None,
+            hull_box: [None; 3],
+            hull_bounds: None,
             grown: Vec::new(),
             shrunk: false,
             ready: false,
@@ -191,7 +243,19 @@ impl<P: IndexPoint> KeptHull<P> {
 
     /// Whether `p` is certainly strictly inside the core (exact orientations).
     pub(crate) fn in_core(&self, p: P) -> bool {
-        in_box(self.core_box, p) || in_disc(self.core_disc, p) || P::strictly_inside(&self.core, p)
+        in_boxes(&self.core_box, p)
+            || (may_be_in(self.core_bounds, p)
+                && (in_disc(self.core_disc, p) || P::strictly_inside(&self.core, p)))
+    }
+
+    /// The boxes inside the core that [`KeptHull::in_core`] tries first.
+    pub(crate) fn core_boxes(&self) -> &InnerBoxes<P> {
+        &self.core_box
+    }
+
+    /// The boxes inside the hull that [`KeptHull::in_hull`] tries first.
+    pub(crate) fn hull_boxes(&self) -> &InnerBoxes<P> {
+        &self.hull_box
     }
 
     /// The core (empty where there is none).
@@ -232,7 +296,9 @@ impl<P: IndexPoint> KeptHull<P> {
     /// Whether `p` is certainly strictly inside the hull as last taken (it only grew
     /// since, unless a point left since).
     pub(crate) fn in_hull(&self, p: P) -> bool {
-        in_box(self.hull_box, p) || in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p)
+        in_boxes(&self.hull_box, p)
+            || (may_be_in(self.hull_bounds, p)
+                && (in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p)))
     }
 
     /// The set gains point `p`, by `id` (not in the set).
@@ -307,7 +373,8 @@ impl<P: IndexPoint> KeptHull<P> {
         self.shrunk = false;
         self.grown.clear();
         self.hull_disc = inner_disc(&self.hull);
-        self.hull_box = inner_box(&self.hull);
+        self.hull_box = inner_boxes(&self.hull);
+        self.hull_bounds = outer_box(&self.hull);
         &self.hull
     }
 
@@ -320,7 +387,8 @@ impl<P: IndexPoint> KeptHull<P> {
             Vec::new()
         };
         self.core_disc = inner_disc(&self.core);
-        self.core_box = inner_box(&self.core);
+        self.core_box = inner_boxes(&self.core);
+        self.core_bounds = outer_box(&self.core);
         self.generation += 1;
         self.kept.clear();
         for (id, p) in all() {
@@ -370,8 +438,8 @@ impl<P: IndexPoint> KeptHull<P> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::{KeptHull, in_box, lost_ground};
+pub(crate) mod tests {
+    use super::{KeptHull, in_box, inner_boxes, lost_ground};
     use glam::DVec2;
     use monoculus_core::geometry::HullGeometry;
     use monoculus_core::rng::Stream;
@@ -446,6 +514,82 @@ mod tests {
                 assert_eq!(got, DVec2::hull_vertices(&all), "{name} round {round}");
             }
             assert!(rebuilds < 60, "{name}: the core is kept most of the time");
+        }
+    }
+
+    /// Convex polygons to hold boxes: the hulls of the test sets, of points on a circle,
+    /// of a square with its corners cut, of a thin sliver, and a triangle.
+    pub(crate) fn polygons(rng: &mut Stream) -> Vec<(&'static str, Vec<DVec2>)> {
+        let mut polygons: Vec<(&'static str, Vec<DVec2>)> = sets(rng, 300, 20)
+            .into_iter()
+            .map(|(name, points)| (name, DVec2::hull_vertices(&points)))
+            .collect();
+        let circle: Vec<DVec2> = (0..40)
+            .map(|k| DVec2::from_angle(f64::from(k) * std::f64::consts::TAU / 40.0) * 3.0)
+            .collect();
+        let cut: Vec<DVec2> = [
+            (1.0, 0.0),
+            (9.0, 0.0),
+            (10.0, 1.0),
+            (10.0, 9.0),
+            (9.0, 10.0),
+        ]
+        .into_iter()
+        .chain([(1.0, 10.0), (0.0, 9.0), (0.0, 1.0)])
+        .map(|(x, y)| DVec2::new(x, y))
+        .collect();
+        let sliver = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(100.0, 0.5),
+            DVec2::new(0.0, 1.0),
+        ];
+        let triangle = vec![
+            DVec2::new(-2.0, -1.0),
+            DVec2::new(3.0, -1.0),
+            DVec2::new(0.5, 4.0),
+        ];
+        for (name, points) in [("circle", circle), ("cut square", cut), ("sliver", sliver)]
+            .into_iter()
+            .chain([("triangle", triangle)])
+        {
+            polygons.push((name, DVec2::hull_vertices(&points)));
+        }
+        polygons
+    }
+
+    /// Every box `inner_boxes` gives lies strictly inside its polygon: its corners, its
+    /// edges and random points in it pass the exact test; degenerate polygons get none;
+    /// a polygon with its corners cut gets all three (the cross beside the first).
+    #[test]
+    fn inner_boxes_lie_strictly_inside() {
+        let mut rng = Stream::new(14, 0, 0, 0);
+        for (name, poly) in polygons(&mut rng) {
+            let boxes = inner_boxes(&poly);
+            if poly.len() < 3 {
+                assert_eq!(boxes, [None; 3], "{name}");
+                continue;
+            }
+            if matches!(name, "cut square" | "random") {
+                assert!(boxes.iter().all(Option::is_some), "{name}: {boxes:?}");
+            }
+            for (lo, hi) in boxes.into_iter().flatten() {
+                let on_edges = (0..=16).flat_map(|k| {
+                    let t = f64::from(k) / 16.0;
+                    let x = (lo.x + (hi.x - lo.x) * t).clamp(lo.x, hi.x);
+                    let y = (lo.y + (hi.y - lo.y) * t).clamp(lo.y, hi.y);
+                    [(x, lo.y), (x, hi.y), (lo.x, y), (hi.x, y)]
+                });
+                let within =
+                    (0..200).map(|_| (rng.uniform_in(lo.x, hi.x), rng.uniform_in(lo.y, hi.y)));
+                for (x, y) in on_edges.chain(within) {
+                    let q = DVec2::new(x, y);
+                    assert!(in_box(Some((lo, hi)), q));
+                    assert!(
+                        DVec2::strictly_inside(&poly, q),
+                        "{name}: {q} of {lo}..{hi}"
+                    );
+                }
+            }
         }
     }
 

@@ -4,7 +4,7 @@
 use bevy_ecs::prelude::*;
 
 use super::Timing;
-use super::kept_hull::KeptHull;
+use super::kept_hull::{InnerBoxes, KeptHull};
 use super::roster::Roster;
 use crate::IndexPoint;
 use crate::resources::Shape;
@@ -52,8 +52,25 @@ impl<P: IndexPoint> KeptShape<P> {
     /// Whether the whole segment of a mover, and every point within the rounding of
     /// an interpolation along it, lies strictly inside the polygon (`inside` its exact
     /// test): the corners of the boxes of that size around both ends do.
-    fn certainly_inside(from: P, to: P, inside: impl Fn(P) -> bool) -> bool {
+    ///
+    /// `boxes` are closed boxes inside the polygon: where one holds every tested point
+    /// (the box of both ends, widened by the room, rounded as the points are), no point
+    /// is tested alone.
+    fn certainly_inside(from: P, to: P, boxes: &InnerBoxes<P>, inside: impl Fn(P) -> bool) -> bool {
         let e = Self::room(from, to);
+        let (x, y) = ((from.axis(0), to.axis(0)), (from.axis(1), to.axis(1)));
+        if P::DIM == 2 && !(x.0.is_nan() | x.1.is_nan() | y.0.is_nan() | y.1.is_nan()) {
+            // Each tested point's coordinate is an end's plus or minus the room, rounded:
+            // rounding is monotone, so these bound every one of them.
+            let (x0, x1) = (x.0.min(x.1) - e, x.0.max(x.1) + e);
+            let (y0, y1) = (y.0.min(y.1) - e, y.0.max(y.1) + e);
+            let held = boxes.iter().flatten().any(|(lo, hi)| {
+                (x0 >= lo.axis(0)) & (x1 <= hi.axis(0)) & (y0 >= lo.axis(1)) & (y1 <= hi.axis(1))
+            });
+            if held {
+                return true;
+            }
+        }
         [from, to].into_iter().all(|p| {
             (0..1usize << P::DIM).all(|corner| {
                 let q = (0..P::DIM).fold(p, |q, a| {
@@ -92,7 +109,7 @@ impl<P: IndexPoint> KeptShape<P> {
     fn track(&mut self, robot: u32, from: P, timing: Timing<P>) {
         let to = timing.target(from);
         if !self.rest.core().is_empty()
-            && Self::certainly_inside(from, to, |q| self.rest.in_core(q))
+            && Self::certainly_inside(from, to, self.rest.core_boxes(), |q| self.rest.in_core(q))
         {
             return;
         }
@@ -103,7 +120,7 @@ impl<P: IndexPoint> KeptShape<P> {
     /// and the hull, or outside.
     fn track_beyond_core(&mut self, robot: u32, from: P, timing: Timing<P>) {
         let to = timing.target(from);
-        if Self::certainly_inside(from, to, |q| self.rest.in_hull(q)) {
+        if Self::certainly_inside(from, to, self.rest.hull_boxes(), |q| self.rest.in_hull(q)) {
             self.between.insert(robot, (from, timing));
         } else {
             self.outside.insert(robot, (from, timing));
@@ -230,4 +247,81 @@ pub(crate) fn in_disc<P: IndexPoint>((centre, radius): (P, f64), p: P) -> bool {
         .fold(0.0, f64::max);
     let room = radius - 16.0 * f64::EPSILON * scale - 1e-9 * (scale + radius);
     (p - centre).length() < room
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec2;
+    use monoculus_core::geometry::HullGeometry;
+    use monoculus_core::rng::Stream;
+
+    use super::KeptShape;
+    use crate::asynchrony::kept_hull::tests::polygons;
+    use crate::asynchrony::kept_hull::{in_boxes, inner_boxes};
+
+    /// A segment held by one of the boxes inside a polygon is certainly inside it
+    /// exactly when every point tested alone is, and every point tested lies in the
+    /// boxes: segments at random around each
+    /// polygon, and segments whose ends lie on the boxes' edges and corners or a
+    /// rounding step beyond them, far from the origin as well as near it.
+    #[test]
+    fn the_boxes_answer_as_the_points_tested_alone() {
+        let mut rng = Stream::new(15, 0, 0, 0);
+        let mut held = 0;
+        for (name, poly) in polygons(&mut rng) {
+            for shift in [DVec2::ZERO, DVec2::new(1e6, -3e5)] {
+                let poly: Vec<DVec2> = poly.iter().map(|&v| v + shift).collect();
+                let poly = DVec2::hull_vertices(&poly);
+                let boxes = inner_boxes(&poly);
+                let inside = |q: DVec2| in_boxes(&boxes, q) || DVec2::strictly_inside(&poly, q);
+                let mut ends: Vec<DVec2> = Vec::new();
+                if !poly.is_empty() {
+                    let (lo, hi) = monoculus_core::metrics::bounds(&poly);
+                    let pad = (hi - lo) * 0.2 + 1.0;
+                    ends.extend((0..200).map(|_| {
+                        DVec2::new(
+                            rng.uniform_in(lo.x - pad.x, hi.x + pad.x),
+                            rng.uniform_in(lo.y - pad.y, hi.y + pad.y),
+                        )
+                    }));
+                }
+                for (lo, hi) in boxes.into_iter().flatten() {
+                    for (x, y) in [(lo.x, lo.y), (hi.x, lo.y), (hi.x, hi.y), (lo.x, hi.y)] {
+                        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (-1, -1), (1, 1), (2, -2)] {
+                            let step = |v: f64, d: i32| match d {
+                                0 => v,
+                                d if d > 0 => (0..d).fold(v, |v, _| v.next_up()),
+                                d => (0..-d).fold(v, |v, _| v.next_down()),
+                            };
+                            ends.push(DVec2::new(step(x, dx), step(y, dy)));
+                        }
+                        ends.push(DVec2::new(x, (lo.y + hi.y) / 2.0));
+                        ends.push(DVec2::new((lo.x + hi.x) / 2.0, y));
+                    }
+                }
+                for (k, &from) in ends.iter().enumerate() {
+                    for &to in ends.iter().skip(k).step_by(7).take(40) {
+                        let fast = KeptShape::<DVec2>::certainly_inside(from, to, &boxes, inside);
+                        let alone =
+                            KeptShape::<DVec2>::certainly_inside(from, to, &[None; 3], inside);
+                        assert_eq!(fast, alone, "{name} {shift}: {from} -> {to}");
+                        // Where a box holds the segment (the answer without any point
+                        // tested alone), it holds every point tested.
+                        let by_boxes =
+                            KeptShape::<DVec2>::certainly_inside(from, to, &boxes, |_| false);
+                        let boxes_only = |q: DVec2| in_boxes(&boxes, q);
+                        assert!(
+                            !by_boxes
+                                || KeptShape::<DVec2>::certainly_inside(
+                                    from, to, &[None; 3], boxes_only
+                                ),
+                            "{name} {shift}: {from} -> {to} held, a point outside the boxes"
+                        );
+                        held += usize::from(by_boxes);
+                    }
+                }
+            }
+        }
+        assert!(held > 1000, "{held} segments held by a box");
+    }
 }
