@@ -28,7 +28,7 @@ pub(crate) struct KeptHull<P> {
     core: Vec<P>,
     /// A disc and boxes inside the core: the cheap first tests.
     core_disc: (P, f64),
-    core_box: InnerBoxes<P>,
+    core_boxes: InnerBoxes<P>,
     /// The core's bounding box (in the plane): a point outside is not inside.
     core_bounds: Option<(P, P)>,
     /// Counts the cores chosen (what was classified against the core must be again when
@@ -47,7 +47,7 @@ pub(crate) struct KeptHull<P> {
     hull: Vec<P>,
     /// A disc and boxes inside `hull`.
     hull_disc: (P, f64),
-    hull_box: InnerBoxes<P>,
+    hull_boxes: InnerBoxes<P>,
     /// The bounding box of `hull` (in the plane).
     hull_bounds: Option<(P, P)>,
     /// Points kept outside `hull` since it was taken.
@@ -222,7 +222,7 @@ impl<P: IndexPoint> KeptHull<P> {
         KeptHull {
             core: Vec::new(),
             core_disc: inner_disc(&[]),
-            core_box: [None; 3],
+            core_boxes: [None; 3],
             core_bounds: None,
             generation: 0,
             shrinks: 0,
@@ -231,7 +231,7 @@ impl<P: IndexPoint> KeptHull<P> {
             kept: Roster::sparse(),
             hull: Vec::new(),
             hull_disc: inner_disc(&[]),
-            hull_box: [None; 3],
+            hull_boxes: [None; 3],
             hull_bounds: None,
             grown: Vec::new(),
             shrunk: false,
@@ -243,19 +243,19 @@ impl<P: IndexPoint> KeptHull<P> {
 
     /// Whether `p` is certainly strictly inside the core (exact orientations).
     pub(crate) fn in_core(&self, p: P) -> bool {
-        in_boxes(&self.core_box, p)
+        in_boxes(&self.core_boxes, p)
             || (may_be_in(self.core_bounds, p)
                 && (in_disc(self.core_disc, p) || P::strictly_inside(&self.core, p)))
     }
 
     /// The boxes inside the core that [`KeptHull::in_core`] tries first.
     pub(crate) fn core_boxes(&self) -> &InnerBoxes<P> {
-        &self.core_box
+        &self.core_boxes
     }
 
     /// The boxes inside the hull that [`KeptHull::in_hull`] tries first.
     pub(crate) fn hull_boxes(&self) -> &InnerBoxes<P> {
-        &self.hull_box
+        &self.hull_boxes
     }
 
     /// The core (empty where there is none).
@@ -296,7 +296,7 @@ impl<P: IndexPoint> KeptHull<P> {
     /// Whether `p` is certainly strictly inside the hull as last taken (it only grew
     /// since, unless a point left since).
     pub(crate) fn in_hull(&self, p: P) -> bool {
-        in_boxes(&self.hull_box, p)
+        in_boxes(&self.hull_boxes, p)
             || (may_be_in(self.hull_bounds, p)
                 && (in_disc(self.hull_disc, p) || P::strictly_inside(&self.hull, p)))
     }
@@ -373,7 +373,7 @@ impl<P: IndexPoint> KeptHull<P> {
         self.shrunk = false;
         self.grown.clear();
         self.hull_disc = inner_disc(&self.hull);
-        self.hull_box = inner_boxes(&self.hull);
+        self.hull_boxes = inner_boxes(&self.hull);
         self.hull_bounds = outer_box(&self.hull);
         &self.hull
     }
@@ -387,7 +387,7 @@ impl<P: IndexPoint> KeptHull<P> {
             Vec::new()
         };
         self.core_disc = inner_disc(&self.core);
-        self.core_box = inner_boxes(&self.core);
+        self.core_boxes = inner_boxes(&self.core);
         self.core_bounds = outer_box(&self.core);
         self.generation += 1;
         self.kept.clear();

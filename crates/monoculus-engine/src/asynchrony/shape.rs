@@ -59,7 +59,9 @@ impl<P: IndexPoint> KeptShape<P> {
     fn certainly_inside(from: P, to: P, boxes: &InnerBoxes<P>, inside: impl Fn(P) -> bool) -> bool {
         let e = Self::room(from, to);
         let (x, y) = ((from.axis(0), to.axis(0)), (from.axis(1), to.axis(1)));
-        if P::DIM == 2 && !(x.0.is_nan() | x.1.is_nan() | y.0.is_nan() | y.1.is_nan()) {
+        // (In space there are no boxes. A NaN coordinate, which `min` and `max` would
+        // drop, is left to the points' own tests.)
+        if !(x.0.is_nan() | x.1.is_nan() | y.0.is_nan() | y.1.is_nan()) {
             // Each tested point's coordinate is an end's plus or minus the room, rounded:
             // rounding is monotone, so these bound every one of them.
             let (x0, x1) = (x.0.min(x.1) - e, x.0.max(x.1) + e);
@@ -261,9 +263,9 @@ mod tests {
 
     /// A segment held by one of the boxes inside a polygon is certainly inside it
     /// exactly when every point tested alone is, and every point tested lies in the
-    /// boxes: segments at random around each
-    /// polygon, and segments whose ends lie on the boxes' edges and corners or a
-    /// rounding step beyond them, far from the origin as well as near it.
+    /// boxes: segments at random around each polygon, and segments whose ends lie on
+    /// the boxes' edges and corners or a rounding step beyond them, far from the origin
+    /// as well as near it.
     #[test]
     fn the_boxes_answer_as_the_points_tested_alone() {
         let mut rng = Stream::new(15, 0, 0, 0);

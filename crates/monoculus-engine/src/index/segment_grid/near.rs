@@ -137,7 +137,7 @@ impl SegmentGrid {
                         slice,
                         f,
                         &g.items,
-                        |s| in_boxes(lanes(coords, s), r32, |_| b),
+                        |s| in_squares(lanes(coords, s), r32, |_| b),
                         |s| near(&coords[s], rx, ry, within),
                     );
                 } else {
@@ -149,7 +149,7 @@ impl SegmentGrid {
                         &g.items,
                         |s| {
                             let room = lanes(reach, s);
-                            in_boxes(lanes(coords, s), r32, |l| b + room[l])
+                            in_squares(lanes(coords, s), r32, |l| b + room[l])
                         },
                         |s| near(&coords[s], rx, ry, radius + f64::from(reach[s]) + room),
                     );
@@ -197,7 +197,7 @@ fn lanes<T>(v: &[T], s: usize) -> &[T; LANES] {
 /// Whether each of the [`LANES`] stored points `chunk` lies in the square of half-side
 /// `b(lane)` around `q`, each coordinate of the chunk tested on its own, branch-free.
 #[inline(always)]
-fn in_boxes(chunk: &[[f32; 2]; LANES], q: [f32; 2], b: impl Fn(usize) -> f32) -> [bool; LANES] {
+fn in_squares(chunk: &[[f32; 2]; LANES], q: [f32; 2], b: impl Fn(usize) -> f32) -> [bool; LANES] {
     let flat = chunk.as_flattened();
     let within: [bool; 2 * LANES] =
         std::array::from_fn(|i| (flat[i] - q[i & 1]).abs() <= b(i >> 1));
