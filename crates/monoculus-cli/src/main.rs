@@ -11,11 +11,15 @@ use crate::commands::{Cli, Failure};
 
 fn main() -> ExitCode {
     allocator::map_large_blocks();
+    // A signal leaves every output as it was: temporaries removed, exit status 130.
+    monoculus_experiments::output::remove_temporaries_on_signal();
     let cli = Cli::parse();
     match commands::dispatch(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Input(message)) => {
-            eprintln!("error: {message}");
+            // One line, and no value quoted at more than 100 characters.
+            let message = monoculus_experiments::one_line(&message);
+            eprintln!("error: {}", monoculus_experiments::short_quotes(&message));
             ExitCode::from(2)
         }
         // A closed pipe (`monoculus ... | head -1`) ends quietly, as Unix tools do.

@@ -289,7 +289,7 @@ fn trace_writes_one_row_per_round() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
         lines[0],
-        "round,activated,moving,hull_area,diameter,extent_x,extent_y,wall_ms"
+        "round,robots,activated,moving,hull_area,diameter,extent_x,extent_y,wall_ms"
     );
     assert_eq!(
         lines.len(),
@@ -298,7 +298,7 @@ fn trace_writes_one_row_per_round() {
     );
     let areas: Vec<f64> = lines[1..]
         .iter()
-        .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+        .map(|l| l.split(',').nth(4).unwrap().parse().unwrap())
         .collect();
     assert!(
         areas.windows(2).all(|w| w[1] <= w[0] * (1.0 + 1e-9)),

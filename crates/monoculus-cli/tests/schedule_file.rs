@@ -111,7 +111,7 @@ fn a_schedule_ends_the_run_after_its_last_round() {
     assert!(report.starts_with("rounds=4 converged=false"), "{report}");
     let activated: Vec<String> = csv_rows_without(&out, &[])
         .into_iter()
-        .map(|r| r[1].clone())
+        .map(|r| r[2].clone())
         .collect();
     assert_eq!(activated, ["0", "2", "0", "0", "1"]);
 }

@@ -4,6 +4,7 @@
 
 pub mod config;
 pub mod limits;
+pub mod output;
 pub mod positions;
 pub mod replay;
 pub mod results;
@@ -12,6 +13,64 @@ pub mod schedule;
 pub mod shard;
 
 pub use config::{Cell, ConfigError, Experiment, RunId};
+
+/// The most characters of a value that a message quotes.
+pub const MAX_QUOTED: usize = 100;
+
+/// A value as a message quotes it: in backticks, on one line, and at most
+/// [`MAX_QUOTED`] characters of it (a longer value is cut, with its length said), so
+/// that a huge value in a config or a CSV gives a short message.
+///
+/// ```
+/// assert_eq!(monoculus_experiments::shown("abc"), "`abc`");
+/// let long = "x".repeat(5000);
+/// let s = monoculus_experiments::shown(&long);
+/// assert!(s.len() < 140 && s.ends_with("(5000 characters)"), "{s}");
+/// ```
+pub fn shown(value: &str) -> String {
+    let count = value.chars().count();
+    if count <= MAX_QUOTED {
+        return format!("`{}`", one_line(value));
+    }
+    let head: String = value.chars().take(MAX_QUOTED).collect();
+    format!("`{}`... ({count} characters)", one_line(&head))
+}
+
+/// `message` with every quoted part (between backticks or double quotes) of more than
+/// [`MAX_QUOTED`] characters cut to that length: the safety net under [`shown`] for
+/// messages that quote values they were not made with (serde's, the TOML parser's).
+///
+/// ```
+/// let m = format!("invalid type: string \"{}\", expected u64", "x".repeat(500));
+/// let short = monoculus_experiments::short_quotes(&m);
+/// assert!(short.len() < 160, "{short}");
+/// assert!(short.ends_with("...\", expected u64"), "{short}");
+/// ```
+pub fn short_quotes(message: &str) -> String {
+    let chars: Vec<char> = message.chars().collect();
+    let mut out = String::with_capacity(message.len().min(4096));
+    let mut k = 0;
+    while k < chars.len() {
+        let c = chars[k];
+        out.push(c);
+        k += 1;
+        if c != '`' && c != '"' {
+            continue;
+        }
+        let Some(len) = chars[k..].iter().position(|&d| d == c) else {
+            continue;
+        };
+        if len > MAX_QUOTED {
+            out.extend(&chars[k..k + MAX_QUOTED]);
+            out.push_str("...");
+        } else {
+            out.extend(&chars[k..k + len]);
+        }
+        out.push(c);
+        k += len + 1;
+    }
+    out
+}
 
 /// `text` with line breaks and other control characters escaped (`\n`), so that a
 /// message quoting what a user wrote stays one line.

@@ -5,6 +5,9 @@
 pub const MAX_CELLS: usize = 1_000_000;
 /// The most runs (cells x seeds) one experiment may have.
 pub const MAX_RUNS: u64 = 100_000_000;
+/// The largest config file read, bytes (8 MiB): a config of 5 x 10^4 list values is
+/// under 1 MB.
+pub const MAX_CONFIG_BYTES: u64 = 8 << 20;
 /// Resident memory per robot of one run, bytes: positions, per-robot state and the
 /// spatial index (measured peaks: about 235 B per robot at 10^6 and 10^7 robots).
 pub const BYTES_PER_ROBOT: u64 = 256;

@@ -14,7 +14,7 @@ pub enum PositionsError {
         cause: std::io::Error,
     },
     /// A line is malformed.
-    #[error("{}:{line}: {}", crate::one_line(path), crate::one_line(message))]
+    #[error("{}:{line}: {}", crate::one_line(path), crate::short_quotes(&crate::one_line(message)))]
     Parse {
         /// The file.
         path: String,
@@ -51,15 +51,18 @@ impl PositionsFile {
     }
 }
 
-/// Reads a positions CSV (header with columns `x`, `y` and optionally `z`, in any
-/// order; other columns are ignored).
-pub fn read_positions(path: &Path) -> Result<PositionsFile, PositionsError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|cause| PositionsError::Io {
-        path: name.clone(),
+/// The text of an input file, an error naming it.
+pub fn read_text(path: &Path) -> Result<String, PositionsError> {
+    std::fs::read_to_string(path).map_err(|cause| PositionsError::Io {
+        path: path.display().to_string(),
         cause,
-    })?;
-    parse_positions(&text, &name)
+    })
+}
+
+/// Reads a positions CSV (header with columns `x`, `y` and optionally `z`, in any
+/// order, and no others).
+pub fn read_positions(path: &Path) -> Result<PositionsFile, PositionsError> {
+    parse_positions(&read_text(path)?, &path.display().to_string())
 }
 
 /// Parses a positions CSV from text; `name` labels errors.
@@ -80,12 +83,7 @@ pub struct TracePositions {
 /// Reads a trace positions file (see [`TracePositions`]): rounds 0, 1, ... in order,
 /// each listing robots 0..n once.
 pub fn read_trace_positions(path: &Path) -> Result<TracePositions, PositionsError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|cause| PositionsError::Io {
-        path: name.clone(),
-        cause,
-    })?;
-    parse_trace_positions(&text, &name)
+    parse_trace_positions(&read_text(path)?, &path.display().to_string())
 }
 
 /// Parses a trace positions file from text; `name` labels errors.
@@ -145,7 +143,70 @@ pub fn parse_trace_positions(text: &str, name: &str) -> Result<TracePositions, P
     })
 }
 
+/// The trace CSV a trace positions file belongs to: `run.positions.csv` -> `run.csv`.
+pub fn trace_of_positions(positions: &Path) -> Option<std::path::PathBuf> {
+    let name = positions.file_name()?.to_str()?;
+    let stem = name.strip_suffix(".positions.csv")?;
+    Some(positions.with_file_name(format!("{stem}.csv")))
+}
+
+/// Checks that a trace positions file listing `robots` robots over `rounds` rounds
+/// (round 0 included) belongs to the trace CSV `trace` (`monoculus trace` writes both
+/// together): one row per round there, and its `robots` column (traces written before
+/// that column are checked by their rounds alone).
+pub fn check_trace_matches(
+    trace: &Path,
+    positions: &Path,
+    rounds: usize,
+    robots: usize,
+) -> Result<(), PositionsError> {
+    let text = read_text(trace)?;
+    let name = trace.display().to_string();
+    let mut csv = Csv::new(&text, &name)?;
+    let robots_col = csv.column("robots");
+    let mut rows = 0;
+    let mut listed = None;
+    for row in csv.rows() {
+        let (line, record) = row?;
+        if rows == 0
+            && let Some(c) = robots_col
+        {
+            let field = record.get(c).unwrap_or("");
+            listed = Some(field.parse::<usize>().map_err(|_| {
+                parse_error(
+                    &name,
+                    line,
+                    format!(
+                        "column robots: {} is not a count of robots",
+                        crate::shown(field)
+                    ),
+                )
+            })?);
+        }
+        rows += 1;
+    }
+    if rows != rounds || listed.is_some_and(|n| n != robots) {
+        let theirs = match listed {
+            Some(n) => format!("{n} robots over {rows} rounds"),
+            None => format!("{rows} rounds"),
+        };
+        return Err(parse_error(
+            &positions.display().to_string(),
+            1,
+            format!(
+                "belongs to another run: it lists {robots} robots over {rounds} rounds, {} lists {theirs} (`monoculus trace --positions` writes the two together; trace the run again)",
+                crate::one_line(&name)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// A CSV with a header, read from `text` (fields trimmed); `name` labels its errors.
+///
+/// Read strictly: the header names each column once and only the columns the file kind
+/// has ([`Csv::exact`]), and the last line must end with a line break, so that a file cut
+/// short in the middle of a number (`1.25` cut to `1.2`) is refused, not read.
 pub(crate) struct Csv<'a> {
     name: &'a str,
     reader: csv::Reader<&'a [u8]>,
@@ -155,6 +216,13 @@ pub(crate) struct Csv<'a> {
 impl<'a> Csv<'a> {
     /// Reads the header.
     pub(crate) fn new(text: &'a str, name: &'a str) -> Result<Self, PositionsError> {
+        if !text.is_empty() && !text.ends_with('\n') {
+            return Err(parse_error(
+                name,
+                text.lines().count(),
+                "the last line does not end with a line break: the file may be cut short (a complete file ends with one)".into(),
+            ));
+        }
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(text.as_bytes());
@@ -169,6 +237,55 @@ impl<'a> Csv<'a> {
         })
     }
 
+    /// Checks the header: it names every column of `required`, any of `optional`, no
+    /// other column and none twice.
+    pub(crate) fn exact(&self, required: &[&str], optional: &[&str]) -> Result<(), PositionsError> {
+        let allowed = || {
+            let mut a = required.join(",");
+            if !optional.is_empty() {
+                a.push_str(&format!(" (and optionally {})", optional.join(",")));
+            }
+            a
+        };
+        self.columns_of(required)?;
+        for (k, h) in self.headers.iter().enumerate() {
+            if self.headers.iter().take(k).any(|e| e == h) {
+                return Err(self.error(1, format!("header names column {} twice", crate::shown(h))));
+            }
+            if !required.contains(&h) && !optional.contains(&h) {
+                return Err(self.error(
+                    1,
+                    format!(
+                        "header has column {}, which this file does not take: its columns are {}",
+                        crate::shown(h),
+                        allowed()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn columns_of(&self, columns: &[&str]) -> Result<Vec<usize>, PositionsError> {
+        let found: Vec<usize> = columns.iter().filter_map(|c| self.column(c)).collect();
+        if found.len() == columns.len() {
+            return Ok(found);
+        }
+        let plural = if columns.len() == 1 {
+            "column"
+        } else {
+            "columns"
+        };
+        Err(self.error(
+            1,
+            format!(
+                "header must name {plural} {}, got `{}`",
+                columns.join(" and "),
+                self.headers.iter().collect::<Vec<_>>().join(",")
+            ),
+        ))
+    }
+
     /// The index of column `c`, if the header names it.
     pub(crate) fn column(&self, c: &str) -> Option<usize> {
         self.headers.iter().position(|h| h == c)
@@ -179,18 +296,8 @@ impl<'a> Csv<'a> {
         &self,
         columns: [&str; N],
     ) -> Result<[usize; N], PositionsError> {
-        let found: Vec<usize> = columns.iter().filter_map(|c| self.column(c)).collect();
-        found.try_into().map_err(|_| {
-            let plural = if N == 1 { "column" } else { "columns" };
-            self.error(
-                1,
-                format!(
-                    "header must name {plural} {}, got `{}`",
-                    columns.join(" and "),
-                    self.headers.iter().collect::<Vec<_>>().join(",")
-                ),
-            )
-        })
+        let found = self.columns_of(&columns)?;
+        Ok(found.try_into().expect("one index a column"))
     }
 
     /// An error at `line` of this file.
@@ -231,6 +338,9 @@ fn parse_rows(
 ) -> Result<(PositionsFile, Vec<[u64; 3]>), PositionsError> {
     let perr = |line: usize, message: String| parse_error(name, line, message);
     let mut csv = Csv::new(text, name)?;
+    let mut required = ints.to_vec();
+    required.extend(["x", "y"]);
+    csv.exact(&required, &["z"])?;
     let [xi, yi] = csv.columns(["x", "y"])?;
     let zi = csv.column("z");
     let int_cols: Vec<usize> = ints
@@ -330,7 +440,7 @@ mod tests {
     #[test]
     fn bad_trace_files_name_the_line() {
         let bad = [
-            ("x,y\n1,2\n", "column round"),
+            ("x,y\n1,2\n", "columns round and robot"),
             (
                 "round,robot,x,y\n1,0,0,0\n",
                 ":2: column round: 1 out of order",

@@ -32,19 +32,18 @@ impl ScheduleFile {
     }
 }
 
-/// Reads a schedule CSV (columns `round` and `robot`, in any order; others ignored).
+/// Reads a schedule CSV (columns `round` and `robot`, in any order, and no others).
 pub fn read_schedule(path: &Path) -> Result<ScheduleFile, PositionsError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|cause| PositionsError::Io {
-        path: name.clone(),
-        cause,
-    })?;
-    parse_schedule(&text, &name)
+    parse_schedule(
+        &crate::positions::read_text(path)?,
+        &path.display().to_string(),
+    )
 }
 
 /// Parses a schedule CSV from text; `name` labels errors.
 pub fn parse_schedule(text: &str, name: &str) -> Result<ScheduleFile, PositionsError> {
     let mut csv = Csv::new(text, name)?;
+    csv.exact(&["round", "robot"], &[])?;
     let [ri, bi] = csv.columns(["round", "robot"])?;
     let perr = |line: usize, message: String| parse_error(name, line, message);
     let mut rounds: Vec<(u64, Vec<u32>)> = Vec::new();

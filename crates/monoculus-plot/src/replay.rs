@@ -12,6 +12,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use monoculus_experiments::output::AtomicFile;
+
 use monoculus_experiments::replay::Replay;
 use plotters::prelude::*;
 
@@ -186,8 +188,10 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> PlotError + '_ {
 }
 
 /// Writes the page of `replay` to `path`.
+/// The page is written whole or not at all: an error (a full disk) or a signal leaves
+/// the page that was there.
 pub fn write_replay_html(replay: &Replay, path: &Path) -> Result<(), PlotError> {
-    std::fs::write(path, replay_html(replay)).map_err(io(path))
+    crate::save(path, replay_html(replay).as_bytes())
 }
 
 /// Frames of the animation at most (the replay's frames are thinned evenly to it).
@@ -244,7 +248,9 @@ pub fn write_replay_gif(replay: &Replay, path: &Path, size: (u32, u32)) -> Resul
     };
     // About 8 seconds whatever the number of frames, 2.5 to 20 frames per second.
     let delay = (8000 / keep.len() as u32).clamp(50, 400);
-    let root = BitMapBackend::gif(path, size, delay)
+    // Encoded into a temporary file beside `path`, renamed over it once complete.
+    let file = AtomicFile::create(path).map_err(|e| io(path)(e.cause))?;
+    let root = BitMapBackend::gif(file.temporary(), size, delay)
         .map_err(|e| fail(e.to_string()))?
         .into_drawing_area();
     let colors = [
@@ -290,7 +296,8 @@ pub fn write_replay_gif(replay: &Replay, path: &Path, size: (u32, u32)) -> Resul
         };
         draw().map_err(|e| fail(e.to_string()))?;
     }
-    Ok(())
+    drop(root);
+    file.commit().map_err(|e| io(path)(e.cause))
 }
 
 #[cfg(test)]

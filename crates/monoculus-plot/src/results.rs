@@ -224,19 +224,7 @@ pub fn plot_results(dir: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
 }
 
 fn draw_both(out: &Path, stem: &str, fig: &BoxFigure) -> Result<Vec<PathBuf>, PlotError> {
-    let size = (900, 560);
-    let png = out.join(format!("{stem}.png"));
-    let svg = out.join(format!("{stem}.svg"));
-    let err = |path: &Path| {
-        let path = path.display().to_string();
-        move |e: String| PlotError::Draw {
-            path: path.clone(),
-            message: e,
-        }
-    };
-    draw_boxes(BitMapBackend::new(&png, size).into_drawing_area(), fig).map_err(err(&png))?;
-    draw_boxes(SVGBackend::new(&svg, size).into_drawing_area(), fig).map_err(err(&svg))?;
-    Ok(vec![png, svg])
+    Ok(both!(out, stem, (900, 560), |root| draw_boxes(root, fig)))
 }
 
 fn draw_boxes<DB: DrawingBackend>(

@@ -64,6 +64,12 @@ pub fn plot_trace(trace: &Path, out: &Path) -> Result<Vec<PathBuf>, PlotError> {
         );
         // The swarm is the robots of the first round listed; every row names one of them.
         let n = round.iter().take_while(|&&r| r == round[0]).count();
+        let listed_rounds = 1 + round.windows(2).filter(|w| w[0] != w[1]).count();
+        monoculus_experiments::positions::check_trace_matches(trace, &positions, listed_rounds, n)
+            .map_err(|e| PlotError::Input {
+                path: positions.display().to_string(),
+                message: e.to_string(),
+            })?;
         let mut paths: Vec<Vec<DVec2>> = vec![Vec::new(); n];
         for i in 0..round.len() {
             let r = robot[i] as usize;

@@ -23,6 +23,7 @@ mod plot;
 mod replay;
 mod run;
 mod slurm;
+mod slurm_script;
 mod stress;
 mod table;
 mod trace;
@@ -30,6 +31,7 @@ mod trace;
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
+use monoculus_experiments::output::{OutputError, Paths};
 use monoculus_experiments::results::ResultsError;
 use monoculus_experiments::{ConfigError, Experiment, SweepError};
 
@@ -121,6 +123,17 @@ impl From<SweepError> for Failure {
     }
 }
 
+impl From<OutputError> for Failure {
+    fn from(e: OutputError) -> Self {
+        Failure::Other(e.into())
+    }
+}
+
+/// Refuses outputs that are inputs, or two outputs in one file (exit status 2).
+pub fn check_paths(paths: &Paths) -> Result<(), Failure> {
+    paths.check().map_err(Failure::Input)
+}
+
 impl From<std::io::Error> for Failure {
     fn from(e: std::io::Error) -> Self {
         Failure::Other(e.into())
@@ -138,6 +151,18 @@ pub struct ConfigArgs {
 }
 
 impl ConfigArgs {
+    /// The files an experiment loaded from this config reads: the config and every file
+    /// it names, as the inputs of a command's [`Paths`] (to which the command adds its
+    /// outputs).
+    pub fn paths(&self, exp: &Experiment) -> Paths {
+        let mut paths = Paths::default();
+        paths.input("the config", &self.config);
+        for f in &exp.inputs {
+            paths.input(format!("the config's {}", f.key), &f.path);
+        }
+        paths
+    }
+
     /// Loads the experiment, printing its warnings.
     pub fn load(&self) -> Result<Experiment, Failure> {
         let exp = Experiment::load(&self.config, &self.set)?;

@@ -1,10 +1,13 @@
 use std::path::{Path, PathBuf};
 
 use monoculus_experiments::Cell;
-use monoculus_experiments::positions::read_trace_positions;
+use monoculus_experiments::output::{Paths, unique_stems};
+use monoculus_experiments::positions::{
+    check_trace_matches, read_trace_positions, trace_of_positions,
+};
 use monoculus_experiments::replay::{Limits, Replay, from_trace, record};
 
-use super::{Failure, pick_cell, thread_pool};
+use super::{Failure, check_paths, pick_cell, thread_pool};
 
 #[derive(clap::Args, Debug)]
 pub struct ReplayArgs {
@@ -91,7 +94,19 @@ pub fn replay(args: ReplayArgs) -> Result<(), Failure> {
                 args.source.display()
             )));
         }
+        let mut paths = Paths::default();
+        paths.input("the trace", &args.source);
+        add_outputs(&mut paths, &args.out, &args.gif);
+        check_paths(&paths)?;
         let trace = read_trace_positions(&args.source)?;
+        if let Some(csv) = trace_of_positions(&args.source).filter(|p| p.exists()) {
+            check_trace_matches(
+                &csv,
+                &args.source,
+                trace.rounds.len(),
+                trace.rounds[0].len(),
+            )?;
+        }
         let replay = from_trace(&trace, args.source.display().to_string(), limits);
         return write(&replay, args.out.clone(), args.gif.clone(), gif_size);
     }
@@ -118,8 +133,28 @@ pub fn replay(args: ReplayArgs) -> Result<(), Failure> {
             Err(e) => return Err(e),
         }
     };
+    // A page per cell: names distinct whatever the cells' values (two cells whose values
+    // differ only in characters a file name cannot hold fall back to the cell index).
+    let labels: Vec<String> = cells.iter().map(|c| label(&exp.name, c)).collect();
+    let stems = unique_stems(&labels, &format!("{}_cell", exp.name));
+    let name = |dir: &PathBuf, k: usize, ext: &str| {
+        if is_dir(dir) {
+            dir.join(format!("{}.{ext}", stems[k]))
+        } else {
+            dir.clone()
+        }
+    };
+    let mut paths = config.paths(&exp);
+    for k in 0..cells.len() {
+        add_outputs(
+            &mut paths,
+            &args.out.as_ref().map(|p| name(p, k, "html")),
+            &args.gif.as_ref().map(|p| name(p, k, "gif")),
+        );
+    }
+    check_paths(&paths)?;
     let pool = thread_pool(args.threads)?;
-    for cell in cells {
+    for (k, cell) in cells.into_iter().enumerate() {
         let key = if cell.key.is_empty() {
             String::new()
         } else {
@@ -129,39 +164,34 @@ pub fn replay(args: ReplayArgs) -> Result<(), Failure> {
         let replay = pool
             .install(|| record(cell, seed, title, limits))
             .map_err(|e| Failure::Input(format!("{}: {e}", args.source.display())))?;
-        let name = |dir: &PathBuf, ext: &str| {
-            if is_dir(dir) {
-                dir.join(format!("{}.{ext}", file_stem(&exp.name, cell)))
-            } else {
-                dir.clone()
-            }
-        };
         write(
             &replay,
-            args.out.as_ref().map(|p| name(p, "html")),
-            args.gif.as_ref().map(|p| name(p, "gif")),
+            args.out.as_ref().map(|p| name(p, k, "html")),
+            args.gif.as_ref().map(|p| name(p, k, "gif")),
             gif_size,
         )?;
     }
     Ok(())
 }
 
-/// `<experiment>` or `<experiment>_<values of the swept keys>`, in safe characters.
-fn file_stem(name: &str, cell: &Cell) -> String {
+/// `<experiment>` or `<experiment>_<values of the swept keys>`: what a cell's page is
+/// named after (made safe and distinct by [`unique_stems`]).
+fn label(name: &str, cell: &Cell) -> String {
     let mut stem = name.to_string();
     for (_, v) in &cell.values {
         stem.push('_');
         stem.push_str(v);
     }
-    stem.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
+    stem
+}
+
+fn add_outputs(paths: &mut Paths, out: &Option<PathBuf>, gif: &Option<PathBuf>) {
+    if let Some(o) = out {
+        paths.output("--out", o);
+    }
+    if let Some(g) = gif {
+        paths.output("--gif", g);
+    }
 }
 
 fn write(

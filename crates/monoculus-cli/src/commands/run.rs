@@ -5,7 +5,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use monoculus_experiments::shard::{Shard, job_id};
 use monoculus_experiments::{Progress, RunOptions, RunProgress, run_experiment};
 
-use super::{ConfigArgs, Failure, env_var, thread_pool};
+use monoculus_experiments::results::folder_outputs;
+
+use super::{ConfigArgs, Failure, check_paths, env_var, thread_pool};
 
 #[derive(clap::Args, Debug)]
 pub struct RunArgs {
@@ -134,6 +136,11 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
     let out = args
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&exp.name));
+    let mut paths = args.config.paths(&exp);
+    for (label, file) in folder_outputs(&out, shard) {
+        paths.output(label, &file);
+    }
+    check_paths(&paths)?;
     let pool = thread_pool(args.threads)?;
     let bar = ProgressBar::new(0);
     bar.set_style(

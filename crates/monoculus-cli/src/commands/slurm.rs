@@ -1,14 +1,21 @@
 //! `monoculus slurm`: a job-array script that runs the shards of a sweep (or of a stress
 //! sweep), and a merge job that runs once every task has succeeded.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use clap::Parser;
 
 use super::stress::StressArgs;
-use super::{ConfigArgs, Failure};
+use monoculus_experiments::output::Paths;
+
+use super::slurm_script::{Header, Syntax, Value, checked, script};
+use super::{ConfigArgs, Failure, check_paths};
+
+/// A fixed word of a script's command.
+fn word(w: &str) -> (String, String) {
+    (w.to_string(), w.to_string())
+}
 
 #[derive(clap::Args, Debug)]
 pub struct SlurmArgs {
@@ -71,106 +78,105 @@ struct StressOnly {
     args: StressArgs,
 }
 
-/// `s` quoted for a POSIX shell.
-fn quote(s: &str) -> String {
-    if !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c))
-    {
-        return s.to_string();
-    }
-    format!("'{}'", s.replace('\'', r"'\''"))
-}
-
 fn absolute(p: &Path) -> Result<PathBuf, Failure> {
     std::path::absolute(p).map_err(|e| Failure::Input(format!("{}: {e}", p.display())))
 }
 
-/// The job's options shared by both scripts.
-struct Options<'a> {
-    args: &'a SlurmArgs,
-    name: String,
-    logs: PathBuf,
+/// A path as a checked script value.
+fn path_value(option: &str, p: &Path, syntax: Syntax) -> Result<Value, Failure> {
+    let text = p.to_str().ok_or_else(|| {
+        Failure::Input(format!(
+            "{option} {}: not valid UTF-8, which a script cannot hold",
+            p.display()
+        ))
+    })?;
+    checked(option, text, syntax)
 }
 
-impl Options<'_> {
-    fn header(&self, out: &mut String, name: &str, log: &str, cpus: usize) {
-        let a = self.args;
-        out.push_str("#!/bin/bash\n");
-        let _ = writeln!(out, "#SBATCH --job-name={}", quote(name));
-        let _ = writeln!(
-            out,
-            "#SBATCH --output={}",
-            quote(&self.logs.join(log).display().to_string())
-        );
-        let _ = writeln!(out, "#SBATCH --cpus-per-task={cpus}");
-        for (key, value) in [
-            ("partition", &a.partition),
-            ("time", &a.time),
-            ("mem", &a.mem),
-            ("account", &a.account),
-        ] {
-            if let Some(v) = value {
-                let _ = writeln!(out, "#SBATCH --{key}={}", quote(v));
-            }
-        }
-        for line in &a.sbatch {
-            let _ = writeln!(out, "#SBATCH {line}");
-        }
-    }
-}
-
-/// The two scripts: (array, merge).
+/// The two scripts: (array, merge). Every value in them is checked ([`checked`]).
+#[expect(clippy::too_many_arguments, reason = "the parts of two scripts")]
 fn scripts(
     args: &SlurmArgs,
     binary: &Path,
-    task: &[String],
-    merge: &[String],
+    task: &[(String, String)],
+    merge: &[(String, String)],
     name: &str,
     logs: &Path,
     what: &str,
-) -> (String, String) {
-    let o = Options {
-        args,
-        name: name.to_string(),
-        logs: logs.to_path_buf(),
-    };
+    name_option: &str,
+) -> Result<(String, String), Failure> {
     let n = args.shards;
-    let bin = quote(&binary.display().to_string());
-    let mut array = String::new();
-    o.header(&mut array, &o.name, "%x-%A_%a.out", args.cpus_per_task);
-    let _ = writeln!(array, "#SBATCH --array=0-{}", n - 1);
-    let _ = writeln!(
-        array,
-        "# {what}: shard $SLURM_ARRAY_TASK_ID of {n}, written by `monoculus slurm`.\n\
-         # A shard resumes where it stopped; to rerun shard K alone: sbatch --array=K {}\n\
-         set -euo pipefail\n\
-         exec {bin} {} --shard \"${{SLURM_ARRAY_TASK_ID}}/{n}\"",
-        quote(
-            &logs
-                .parent()
-                .unwrap_or(logs)
-                .join("array.sh")
-                .display()
-                .to_string()
-        ),
-        task.iter().map(|s| quote(s)).collect::<Vec<_>>().join(" ")
+    let mut options = Vec::new();
+    for (key, value, syntax) in [
+        ("partition", &args.partition, Syntax::Partitions),
+        ("time", &args.time, Syntax::Time),
+        ("mem", &args.mem, Syntax::Memory),
+        ("account", &args.account, Syntax::Account),
+    ] {
+        if let Some(v) = value {
+            options.push((key, checked(&format!("--{key}"), v, syntax)?));
+        }
+    }
+    let extra: Vec<Value> = args
+        .sbatch
+        .iter()
+        .map(|l| checked("--sbatch", l, Syntax::Option))
+        .collect::<Result<_, _>>()?;
+    let words = |list: &[(String, String)]| -> Result<Vec<Value>, Failure> {
+        let mut v = vec![path_value("--binary", binary, Syntax::Word)?];
+        for (option, word) in list {
+            v.push(checked(option, word, Syntax::Word)?);
+        }
+        Ok(v)
+    };
+    let array_name = checked(name_option, name, Syntax::JobName)?;
+    let merge_name = checked(name_option, &format!("{name}-merge"), Syntax::JobName)?;
+    let array_log = path_value("--out", &logs.join("%x-%A_%a.out"), Syntax::Word)?;
+    let merge_log = path_value("--out", &logs.join("%x-%j.out"), Syntax::Word)?;
+    path_value("--out", logs, Syntax::SlurmPath)?;
+    let array_path = path_value(
+        "--out",
+        &logs.parent().unwrap_or(logs).join("array.sh"),
+        Syntax::Word,
+    )?;
+    let comment = |text: String| checked("the config's name", &text, Syntax::Comment);
+    let array = script(
+        &Header {
+            job_name: &array_name,
+            output: &array_log,
+            cpus: args.cpus_per_task,
+            options: &options,
+            extra: &extra,
+            array: Some(n),
+        },
+        &[
+            comment(format!(
+                "{what}: shard $SLURM_ARRAY_TASK_ID of {n}, written by `monoculus slurm`."
+            ))?,
+            comment(format!(
+                "A shard resumes where it stopped; to rerun shard K alone: sbatch --array=K {}",
+                array_path.quoted()
+            ))?,
+        ],
+        &words(task)?,
+        &format!(" --shard \"${{SLURM_ARRAY_TASK_ID}}/{n}\""),
     );
-    let mut merge_script = String::new();
-    o.header(
-        &mut merge_script,
-        &format!("{}-merge", o.name),
-        "%x-%j.out",
-        1,
+    let merge_script = script(
+        &Header {
+            job_name: &merge_name,
+            output: &merge_log,
+            cpus: 1,
+            options: &options,
+            extra: &extra,
+            array: None,
+        },
+        &[comment(format!(
+            "{what}: merges the {n} shards once every array task has succeeded."
+        ))?],
+        &words(merge)?,
+        "",
     );
-    let _ = writeln!(
-        merge_script,
-        "# {what}: merges the {n} shards once every array task has succeeded.\n\
-         set -euo pipefail\n\
-         exec {bin} {}",
-        merge.iter().map(|s| quote(s)).collect::<Vec<_>>().join(" ")
-    );
-    (array, merge_script)
+    Ok((array, merge_script))
 }
 
 fn sbatch(args: &[&str]) -> Result<String, Failure> {
@@ -207,14 +213,12 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
     if args.cpus_per_task == 0 {
         return Err(Failure::Input("--cpus-per-task: must be at least 1".into()));
     }
-    if let Some(bad) = args.sbatch.iter().find(|l| l.contains('\n')) {
-        return Err(Failure::Input(format!("--sbatch {bad:?}: one line only")));
-    }
     let out = absolute(&args.out)?;
     let binary = match &args.binary {
         Some(b) => absolute(b)?,
         None => std::env::current_exe().map_err(|e| Failure::Other(e.into()))?,
     };
+    let mut inputs = Paths::default();
     let (task, merge, name, what) = if args.stress {
         if args.config.is_some() {
             return Err(Failure::Input(
@@ -244,7 +248,7 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
                 "--stress options: leave out --shard (each task gets its own)".into(),
             ));
         }
-        let mut task: Vec<String> = vec!["stress".into()];
+        let mut task = vec![word("stress")];
         let mut rest = args.stress_args.iter();
         let mut csv = None;
         while let Some(a) = rest.next() {
@@ -253,15 +257,16 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
             } else if let Some(v) = a.strip_prefix("--csv=") {
                 csv = Some(v.to_string());
             } else {
-                task.push(a.clone());
+                task.push(("the stress options".into(), a.clone()));
             }
         }
         let csv = match csv {
             Some(c) => absolute(Path::new(&c))?,
             None => out.join("stress.csv"),
         };
-        task.extend(["--csv".into(), csv.display().to_string()]);
-        let merge = vec!["merge".into(), csv.display().to_string()];
+        let csv = csv.display().to_string();
+        task.extend([word("--csv"), ("--csv".into(), csv.clone())]);
+        let merge = vec![word("merge"), ("--csv".into(), csv)];
         (
             task,
             merge,
@@ -279,18 +284,21 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
                 "options after `--` are for --stress only".into(),
             ));
         }
-        let exp = ConfigArgs {
+        let config_args = ConfigArgs {
             config: config.clone(),
             set: args.set.clone(),
-        }
-        .load()?;
+        };
+        let exp = config_args.load()?;
+        inputs = config_args.paths(&exp);
         let existing = out.join("config.toml");
         if let Ok(old) = std::fs::read_to_string(&existing)
             && old != exp.resolved
         {
             return Err(Failure::Input(format!(
-                "{}: holds a different experiment; use another --out",
-                existing.display()
+                "{}: {}",
+                existing.display(),
+                exp.changed_input(&old)
+                    .unwrap_or_else(|| "holds a different experiment; use another --out".into())
             )));
         }
         let runs = exp.cells.len() * exp.seeds.len();
@@ -300,29 +308,60 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
                 args.shards
             );
         }
-        let mut task = vec!["run".into(), absolute(config)?.display().to_string()];
+        let mut task = vec![
+            word("run"),
+            ("CONFIG".into(), absolute(config)?.display().to_string()),
+        ];
         for s in &args.set {
-            task.extend(["--set".into(), s.clone()]);
+            task.extend([word("--set"), ("--set".into(), s.clone())]);
         }
-        task.extend(["--out".into(), out.display().to_string()]);
+        task.extend([word("--out"), ("--out".into(), out.display().to_string())]);
         if let Some(every) = args.progress {
-            task.extend(["--progress".into(), every.as_secs_f64().to_string()]);
+            task.extend([word("--progress"), word(&every.as_secs_f64().to_string())]);
         }
-        let merge = vec!["merge".into(), out.display().to_string()];
+        let merge = vec![word("merge"), ("--out".into(), out.display().to_string())];
         (
             task,
             merge,
-            format!("monoculus-{}", exp.name),
+            // The default job name keeps the characters a job name may have.
+            format!("monoculus-{}", exp.name)
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || "_-.+=:,@".contains(c) {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect(),
             format!("experiment {} ({runs} runs)", exp.name),
         )
     };
-    let name = args.job_name.clone().unwrap_or(name);
+    let (name, name_option) = match &args.job_name {
+        Some(n) => (n.clone(), "--job-name"),
+        None => (name, "the default job name"),
+    };
     let dir = out.join("slurm");
     let logs = dir.join("logs");
+    // Every value checked before anything is made.
+    let (array, merge_script) = scripts(
+        &args,
+        &binary,
+        &task,
+        &merge,
+        &name,
+        &logs,
+        &what,
+        name_option,
+    )?;
     std::fs::create_dir_all(&logs)
         .map_err(|e| Failure::Other(anyhow::anyhow!("{}: {e}", logs.display())))?;
-    let (array, merge_script) = scripts(&args, &binary, &task, &merge, &name, &logs, &what);
     let (array_path, merge_path) = (dir.join("array.sh"), dir.join("merge.sh"));
+    let mut paths = inputs;
+    paths
+        .output("the array script", &array_path)
+        .output("the merge script", &merge_path);
+    check_paths(&paths)?;
     for (path, text) in [(&array_path, &array), (&merge_path, &merge_script)] {
         monoculus_experiments::results::write_atomic(path, text.as_bytes())?;
     }
@@ -337,9 +376,10 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
         merge_path.display().to_string(),
     );
     if !args.submit {
+        let q = |p: &str| checked("--out", p, Syntax::Word).map(|v| v.quoted());
         outln!("submit with:");
-        outln!("  jid=$(sbatch --parsable {})", quote(&a));
-        outln!("  sbatch --dependency=afterok:${{jid%%;*}} {}", quote(&m));
+        outln!("  jid=$(sbatch --parsable {})", q(&a)?);
+        outln!("  sbatch --dependency=afterok:${{jid%%;*}} {}", q(&m)?);
         return Ok(());
     }
     let array_job = sbatch(&["--parsable", &a])?;
@@ -351,17 +391,4 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
     outln!("array_job={array_job}");
     outln!("merge_job={merge_job}");
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::quote;
-
-    #[test]
-    fn quoting_survives_a_shell() {
-        assert_eq!(quote("/a/b.toml"), "/a/b.toml");
-        assert_eq!(quote("swarm.n=[10, 20]"), "'swarm.n=[10, 20]'");
-        assert_eq!(quote("it's"), r"'it'\''s'");
-        assert_eq!(quote(""), "''");
-    }
 }

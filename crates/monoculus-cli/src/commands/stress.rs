@@ -322,7 +322,9 @@ fn measure(
     };
     let setup = Instant::now();
     let start: Vec<DVec2> = generate(&shape, row.n, row.seed);
-    let mut config = SimConfig::paper(kind, row.seed, u64::MAX);
+    // The cap is the rounds measured: stress steps them itself, and ASYNC checks
+    // that its clock cannot overflow within the cap.
+    let mut config = SimConfig::paper(kind, row.seed, row.rounds.max(1));
     config.backend = backend.engine();
     if let Some(t) = timing {
         config.scheduler = SchedulerSpec::Async(t);

@@ -68,7 +68,13 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
             .position(|h| h == name)
             .ok_or_else(|| Failure::Input(format!("{}: no column {name}", path.display())))
     };
-    let stat_idx: Vec<usize> = SUMMARY_COLUMNS
+    // `missing` is absent from folders written before 0.3: read as 0 there.
+    let stat_names: Vec<&str> = SUMMARY_COLUMNS
+        .iter()
+        .copied()
+        .filter(|&s| s != "missing" || header.iter().any(|h| h == "missing"))
+        .collect();
+    let stat_idx: Vec<usize> = stat_names
         .iter()
         .map(|s| col(s))
         .collect::<Result<_, _>>()?;
@@ -82,9 +88,9 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
     }
     for r in &records {
         let line = r.position().map_or(0, |p| p.line());
-        for (&c, name) in stat_idx.iter().zip(SUMMARY_COLUMNS) {
+        for (&c, &name) in stat_idx.iter().zip(&stat_names) {
             let v = &r[c];
-            let whole = matches!(name, "runs" | "converged" | "hull_grew_runs");
+            let whole = matches!(name, "runs" | "converged" | "hull_grew_runs" | "missing");
             let good = if whole {
                 v.parse::<u64>().is_ok()
             } else {
@@ -92,8 +98,9 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
             };
             if !good {
                 return Err(Failure::Input(format!(
-                    "{}:{line}: column {name}: `{v}` is not {}",
+                    "{}:{line}: column {name}: {} is not {}",
                     path.display(),
+                    monoculus_experiments::shown(v),
                     if whole {
                         "a whole number >= 0"
                     } else {
@@ -130,12 +137,23 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
     let names: Vec<String> = header.iter().map(String::from).collect();
     let schema = SummaryStats::schema(&names)
         .map_err(|m| Failure::Input(format!("{}: {m}", path.display())))?;
-    for r in &records {
-        let fields: Vec<String> = r.iter().map(String::from).collect();
-        let line = r.position().map_or(0, |p| p.line());
-        let st: SummaryStats = schema
-            .read(&fields)
-            .map_err(|m| Failure::Input(format!("{}:{line}: {m}", path.display())))?;
+    let stats: Vec<SummaryStats> = records
+        .iter()
+        .map(|r| {
+            let fields: Vec<String> = r.iter().map(String::from).collect();
+            let line = r.position().map_or(0, |p| p.line());
+            schema
+                .read(&fields)
+                .map_err(|m| Failure::Input(format!("{}:{line}: {m}", path.display())))
+        })
+        .collect::<Result<_, _>>()?;
+    // A partial folder (an unfinished sweep, a merge with --partial) says so, and how
+    // many runs each cell lacks.
+    let missing: u64 = stats.iter().map(|s| s.missing).sum();
+    if missing > 0 {
+        rows[0].push("missing runs".into());
+    }
+    for (r, st) in records.iter().zip(&stats) {
         let mut row: Vec<String> = params.iter().map(|&i| r[i].to_string()).collect();
         if hull {
             row.push(format!("{}/{}", st.hull_grew_runs, st.runs));
@@ -155,12 +173,21 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
             cell(st.tau_q3, 3)
         ));
         row.push(cell(st.rounds_median, 1));
+        if missing > 0 {
+            row.push(st.missing.to_string());
+        }
         rows.push(row);
     }
     let widths: Vec<usize> = (0..rows[0].len())
         .map(|c| rows.iter().map(|r| r[c].len()).max().unwrap_or(0))
         .collect();
     let mut out = String::new();
+    if missing > 0 {
+        let total: u64 = stats.iter().map(|s| s.runs + s.missing).sum();
+        out.push_str(&format!(
+            "partial: {missing} of {total} runs missing (an unfinished sweep, or merged with --partial)\n\n"
+        ));
+    }
     for (k, r) in rows.iter().enumerate() {
         let cells: Vec<String> = r
             .iter()

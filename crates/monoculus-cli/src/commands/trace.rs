@@ -7,7 +7,14 @@ use monoculus_experiments::Cell;
 use monoculus_experiments::config::SchedulerKind;
 use monoculus_experiments::results::num;
 
-use super::{ConfigArgs, Failure, pick_cell, thread_pool};
+use monoculus_experiments::output::AtomicFile;
+
+use super::{ConfigArgs, Failure, check_paths, pick_cell, thread_pool};
+
+/// The positions file of a trace: `<out stem>.positions.csv`.
+pub fn positions_path(out: &std::path::Path) -> PathBuf {
+    out.with_extension("positions.csv")
+}
 
 #[derive(clap::Args, Debug)]
 pub struct TraceArgs {
@@ -44,6 +51,15 @@ pub fn trace(args: TraceArgs) -> Result<(), Failure> {
                 .into(),
         ));
     }
+    let mut paths = args.config.paths(&exp);
+    paths.output("--out", &args.out);
+    if args.positions {
+        paths.output("--positions", &positions_path(&args.out));
+    }
+    if let Some(s) = &args.schedule {
+        paths.output("--schedule", s);
+    }
+    check_paths(&paths)?;
     let pool = thread_pool(args.threads)?;
     let outcome = pool.install(|| match cell.dim() {
         3 => trace_in::<DVec3>(cell, &args),
@@ -71,20 +87,17 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    let create = |path: &std::path::Path| {
-        std::fs::File::create(path)
-            .map_err(|e| Failure::Other(anyhow::anyhow!("{}: {e}", path.display())))
-    };
-    let mut out = std::io::BufWriter::new(create(&args.out)?);
+    // Every file whole or not at all: written beside its name and renamed once the run
+    // has ended (an error or a signal leaves the files that were there).
+    let mut out = AtomicFile::create(&args.out)?;
     let extents: Vec<String> = axes.iter().map(|a| format!("extent_{a}")).collect();
     writeln!(
         out,
-        "round,activated,moving,{measure},diameter,{},wall_ms",
+        "round,robots,activated,moving,{measure},diameter,{},wall_ms",
         extents.join(",")
     )?;
     let mut pos_out = if args.positions {
-        let path = args.out.with_extension("positions.csv");
-        let mut f = std::io::BufWriter::new(create(&path)?);
+        let mut f = AtomicFile::create(&positions_path(&args.out))?;
         writeln!(f, "round,robot,{}", axes.join(","))?;
         Some(f)
     } else {
@@ -92,12 +105,13 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     };
     let mut schedule_out = match &args.schedule {
         Some(path) => {
-            let mut f = std::io::BufWriter::new(create(path)?);
+            let mut f = AtomicFile::create(path)?;
             writeln!(f, "round,robot")?;
             Some(f)
         }
         None => None,
     };
+    let robots = cell.n();
     let mut io_error: Option<std::io::Error> = None;
     let mut sim = Simulation::<P>::new(
         cell.sim_config(args.seed),
@@ -112,7 +126,7 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
             let ext: Vec<String> = r.extents.iter().map(|&e| num(e)).collect();
             writeln!(
                 out,
-                "{},{},{},{},{},{},{:.3}",
+                "{},{robots},{},{},{},{},{},{:.3}",
                 r.round,
                 r.activated,
                 r.moving,
@@ -144,9 +158,8 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     if let Some(e) = io_error {
         return Err(e.into());
     }
-    out.flush()?;
-    for f in [pos_out, schedule_out].into_iter().flatten() {
-        f.into_inner().map_err(|e| e.into_error())?;
+    for f in [Some(out), pos_out, schedule_out].into_iter().flatten() {
+        f.commit()?;
     }
     Ok(outcome)
 }

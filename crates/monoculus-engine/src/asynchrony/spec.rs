@@ -105,6 +105,72 @@ pub struct AsyncSpec {
     pub start: AsyncStart,
 }
 
+/// The longest phase a duration distribution may draw, ticks (2^40, about 10^12): with
+/// it, no clock of a run of [`AsyncSpec::MAX_TICKS`] can overflow.
+pub const MAX_PHASE_TICKS: u64 = 1 << 40;
+
+impl TickDist {
+    /// The longest duration a draw can give, ticks: an exponential draw is
+    /// `ceil(-mean ln(1 - u))` with `u` of 53 bits, so at most 36.8 times the mean.
+    pub fn longest(&self) -> f64 {
+        match *self {
+            TickDist::Fixed { ticks } => ticks as f64,
+            TickDist::Uniform { max, .. } => max as f64,
+            TickDist::Exponential { mean } => (mean * 36.8).ceil(),
+        }
+    }
+}
+
+impl AsyncSpec {
+    /// The most ticks a run may reach (2^62): its clock, and every phase end it
+    /// schedules, stay far from overflow.
+    pub const MAX_TICKS: u64 = 1 << 62;
+
+    /// Why a run of at most `max_epochs` epochs could overflow its clock, if it could:
+    /// the phase (`idle`, `compute`, `move`) or `max_epochs` at fault, and what is
+    /// wrong. A phase may draw at most [`MAX_PHASE_TICKS`]; an epoch lasts at most two
+    /// cycles, so `(max_epochs + 2)` twice-cycles must stay under [`AsyncSpec::MAX_TICKS`].
+    ///
+    /// ```
+    /// use monoculus_engine::{AsyncSpec, TickDist};
+    ///
+    /// let fine = AsyncSpec::default();
+    /// assert!(fine.check(100_000).is_ok());
+    /// let huge = AsyncSpec { idle: TickDist::Fixed { ticks: 1 << 62 }, ..fine };
+    /// assert_eq!(huge.check(100_000).unwrap_err().0, "idle");
+    /// let far = AsyncSpec { idle: TickDist::Exponential { mean: 1e300 }, ..fine };
+    /// assert_eq!(far.check(10).unwrap_err().0, "idle");
+    /// ```
+    pub fn check(&self, max_epochs: u64) -> Result<(), (&'static str, String)> {
+        for (phase, d) in [
+            ("idle", self.idle),
+            ("compute", self.compute),
+            ("move", self.motion),
+        ] {
+            let longest = d.longest();
+            if longest.is_nan() || longest > MAX_PHASE_TICKS as f64 {
+                return Err((
+                    phase,
+                    format!(
+                        "durations of up to {longest:e} ticks: at most 2^40 = {MAX_PHASE_TICKS} ticks a phase (an exponential draw reaches 36.8 times its mean), so that no clock overflows"
+                    ),
+                ));
+            }
+        }
+        let cycle = self.idle.longest() + self.compute.longest() + self.motion.longest();
+        let worst = (max_epochs as f64 + 2.0) * 2.0 * cycle;
+        if worst > Self::MAX_TICKS as f64 {
+            return Err((
+                "max_epochs",
+                format!(
+                    "{max_epochs} epochs of cycles up to {cycle} ticks could last {worst:e} ticks: at most 2^62; lower the cap or the durations"
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for AsyncSpec {
     /// One tick per phase, starting together: the same runs as FSYNC.
     fn default() -> Self {

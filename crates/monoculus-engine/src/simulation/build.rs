@@ -71,6 +71,11 @@ pub(super) fn validate<P: IndexPoint>(
             ));
         }
     }
+    if let SchedulerSpec::Async(spec) = &config.scheduler
+        && let Err((_, message)) = spec.check(config.stop.max_rounds)
+    {
+        return Err(EngineError::Invalid(format!("ASYNC: {message}")));
+    }
     if let Some(robot) = match &config.scheduler {
         SchedulerSpec::File(list) => list.max_robot(),
         _ => None,

@@ -26,7 +26,11 @@ impl fmt::Display for ConfigError {
         if let Some(key) = &self.key {
             write!(f, ": {}", crate::one_line(key))?;
         }
-        write!(f, ": {}", crate::one_line(&self.message))
+        write!(
+            f,
+            ": {}",
+            crate::short_quotes(&crate::one_line(&self.message))
+        )
     }
 }
 

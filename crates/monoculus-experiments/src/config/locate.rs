@@ -29,7 +29,12 @@ pub fn line_of(source: &str, path: &str) -> Option<usize> {
         let line = raw.trim();
         if let Some(name) = table_header(line) {
             table = name;
-            if table.iter().map(String::as_str).eq(parts.iter().copied()) {
+            // The table itself, or else the first table inside it (`[a.b.c]` for `a`).
+            if table.iter().map(String::as_str).eq(parts.iter().copied())
+                || header_line.is_none()
+                    && table.len() > parts.len()
+                    && table.iter().zip(&parts).all(|(t, p)| t == p)
+            {
                 header_line = Some(no + 1);
             }
             continue;

@@ -34,8 +34,8 @@ use sweep::render;
 use typed::typed;
 use validate::{validate, validate_axes, validate_run_count};
 
-use crate::positions::{PositionsFile, read_positions};
-use crate::schedule::{ScheduleFile, read_schedule};
+use crate::positions::{PositionsError, PositionsFile, parse_positions};
+use crate::schedule::{ScheduleFile, parse_schedule};
 
 /// One swept key and its values.
 #[derive(Clone, Debug, PartialEq)]
@@ -86,6 +86,75 @@ pub struct Experiment {
     pub source: String,
     /// The `--set` overrides applied to it.
     pub overrides: Vec<String>,
+    /// The files it reads, whose contents are part of its identity (`resolved` records
+    /// their hashes, so [`Experiment::hash`] covers them).
+    pub inputs: Vec<InputFile>,
+}
+
+impl Experiment {
+    /// When `resolved` (a `config.toml` written earlier) differs from this experiment's
+    /// only in the contents of a file both read: which file, and how. One line.
+    pub fn changed_input(&self, resolved: &str) -> Option<String> {
+        let then = InputFile::records(resolved);
+        let strip = |text: &str| -> String {
+            text.lines()
+                .filter(|l| !l.starts_with("# input "))
+                .collect::<Vec<_>>()
+                .join("\n")
+        };
+        if strip(resolved) != strip(&self.resolved) {
+            return None;
+        }
+        self.inputs.iter().find_map(|f| {
+            let (_, _, old) = then
+                .iter()
+                .find(|(k, w, _)| *k == f.key && *w == format!("{:?}", f.written))?;
+            (*old != f.hash).then(|| {
+                format!(
+                    "{} {} has changed since (contents hash {old} then, {} now): results are never continued or merged across a change to an input",
+                    f.key,
+                    crate::one_line(&f.path.display().to_string()),
+                    f.hash
+                )
+            })
+        })
+    }
+}
+
+/// A file an experiment reads (`swarm.file`, `scheduler.file`): its contents belong to
+/// the experiment's identity, so that results are never continued or merged across a
+/// change to it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct InputFile {
+    /// The config key naming it.
+    pub key: String,
+    /// The path as the config writes it (relative to the config's folder).
+    pub written: String,
+    /// The path it was read from.
+    pub path: PathBuf,
+    /// [`crate::results::config_hash`] of its contents.
+    pub hash: String,
+}
+
+impl InputFile {
+    /// The line of `config.toml` that records it (a comment, so that `config.toml`
+    /// stays a config).
+    fn record(&self) -> String {
+        format!("# input {} {:?} {}", self.key, self.written, self.hash)
+    }
+
+    /// Reads back the records of a resolved config: (key, written path, hash).
+    fn records(resolved: &str) -> Vec<(String, String, String)> {
+        resolved
+            .lines()
+            .filter_map(|l| {
+                let rest = l.strip_prefix("# input ")?;
+                let (key, rest) = rest.split_once(' ')?;
+                let (written, hash) = rest.rsplit_once(' ')?;
+                Some((key.to_string(), written.to_string(), hash.to_string()))
+            })
+            .collect()
+    }
 }
 
 /// One run of an experiment.

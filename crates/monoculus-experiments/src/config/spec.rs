@@ -134,13 +134,51 @@ pub enum RandomRound {
 }
 
 /// `at`: a round, or `"random"`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(untagged)]
 pub enum CrashAtConfig {
     /// From this round (0: the start).
     Round(u64),
     /// A uniform round in [0, `until`], per crashed robot.
     Random(RandomRound),
+}
+
+const AT_EXPECTED: &str = "a round (a whole number, at least 0) or \"random\"";
+
+impl<'de> Deserialize<'de> for CrashAtConfig {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = CrashAtConfig;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(AT_EXPECTED)
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<CrashAtConfig, E> {
+                Ok(CrashAtConfig::Round(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<CrashAtConfig, E> {
+                u64::try_from(v)
+                    .map(CrashAtConfig::Round)
+                    .map_err(|_| E::custom(format!("expected {AT_EXPECTED}, got {v}")))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<CrashAtConfig, E> {
+                Err(E::custom(format!("expected {AT_EXPECTED}, got {v}")))
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<CrashAtConfig, E> {
+                Err(E::custom(format!("expected {AT_EXPECTED}, got {v}")))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<CrashAtConfig, E> {
+                match v {
+                    "random" => Ok(CrashAtConfig::Random(RandomRound::Random)),
+                    _ => Err(E::custom(format!(
+                        "expected {AT_EXPECTED}, got {}",
+                        crate::shown(v)
+                    ))),
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// `[faults]` (SPEC 9.1).

@@ -33,6 +33,42 @@ pub(super) fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) 
     t.insert(parts[parts.len() - 1].to_string(), value);
 }
 
+/// The line that nests deepest, and roughly how deep: the dots of a header or key and the
+/// brackets and braces open on it (strings are not told apart: this only points a
+/// "nested too deeply" message at its line).
+fn deepest_line(text: &str) -> (usize, usize) {
+    let mut best = (1, 0);
+    let mut open: usize = 0;
+    for (k, raw) in text.lines().enumerate() {
+        let line = raw.trim();
+        let key = if line.starts_with('[') {
+            line
+        } else {
+            line.split('=').next().unwrap_or("")
+        };
+        let dots = key.matches('.').count();
+        let mut deepest_here = open;
+        for c in line.chars() {
+            match c {
+                '[' | '{' => {
+                    open += 1;
+                    deepest_here = deepest_here.max(open);
+                }
+                ']' | '}' => open = open.saturating_sub(1),
+                _ => {}
+            }
+        }
+        if line.starts_with('[') {
+            open = 0;
+        }
+        let depth = deepest_here.max(dots + 1);
+        if depth > best.1 {
+            best = (k + 1, depth);
+        }
+    }
+    best
+}
+
 pub(super) fn render(value: &toml::Value) -> String {
     match value {
         toml::Value::String(s) => s.clone(),
@@ -44,11 +80,34 @@ impl Experiment {
     /// Loads and validates the config at `path`, with `--set` overrides.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Experiment, ConfigError> {
         let label = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+        let fail = |message: String| ConfigError {
             file: label.clone(),
             line: None,
             key: None,
-            message: format!("cannot read: {e}"),
+            message,
+        };
+        // Read at most one byte past the limit: a huge file (or an endless one, such as
+        // /dev/zero) is refused at once, not read.
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|f| {
+                std::io::Read::read_to_end(
+                    &mut std::io::Read::take(f, crate::limits::MAX_CONFIG_BYTES + 1),
+                    &mut bytes,
+                )
+            })
+            .map_err(|e| fail(format!("cannot read: {e}")))?;
+        if bytes.len() as u64 > crate::limits::MAX_CONFIG_BYTES {
+            return Err(fail(format!(
+                "larger than {} MB: a config is at most that; sweep long lists with --set or several configs",
+                crate::limits::MAX_CONFIG_BYTES >> 20
+            )));
+        }
+        let text = String::from_utf8(bytes).map_err(|e| {
+            fail(format!(
+                "not UTF-8 text (byte {})",
+                e.utf8_error().valid_up_to()
+            ))
         })?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Self::parse(&text, &label, &base, overrides)
@@ -67,6 +126,14 @@ impl Experiment {
             let mut message = e.message().trim().to_string();
             if message.contains("as i128") || message.contains("number too large") {
                 message = "integer too large: TOML integers are 64-bit".into();
+            }
+            let mut line = line;
+            if message.contains("recursion limit") || message.contains("cannot recurse") {
+                let (deepest, depth) = deepest_line(text);
+                message = format!(
+                    "nested about {depth} levels deep (tables, arrays, inline tables or dotted keys): a config nests at most 80 levels"
+                );
+                line = line.or(Some(deepest));
             }
             if message == "duplicate key"
                 && let Some(span) = e.span()
@@ -95,6 +162,13 @@ impl Experiment {
         let mut cells = Vec::with_capacity(count);
         let mut warnings = Vec::new();
         let mut files = validate::Files::default();
+        // Each cell starts from the config without its lists (so that making a cell costs
+        // the size of the config, not of its lists: a list of 5 x 10^4 values is 5 x 10^4
+        // cells, each a small table).
+        let mut bare = table.clone();
+        for axis in &axes {
+            set_path(&mut bare, &axis.path, toml::Value::Boolean(false));
+        }
         for index in 0..count {
             let mut rest = index;
             let mut chosen = vec![0; axes.len()];
@@ -102,7 +176,7 @@ impl Experiment {
                 chosen[a] = rest % axis.values.len();
                 rest /= axis.values.len();
             }
-            let mut cell_table = table.clone();
+            let mut cell_table = bare.clone();
             let mut values = Vec::with_capacity(axes.len());
             for (axis, &c) in axes.iter().zip(&chosen) {
                 set_path(&mut cell_table, &axis.path, axis.values[c].clone());
@@ -138,7 +212,16 @@ impl Experiment {
         }
         warnings.sort();
         warnings.dedup();
-        let resolved = toml::to_string(&resolved).expect("a table serialises");
+        let mut resolved = toml::to_string(&resolved).expect("a table serialises");
+        if !files.read.is_empty() {
+            resolved.push_str(
+                "\n# The files this experiment reads, and a hash of each one's contents: part of\n# its identity (config_hash). No run resumes and no merge joins results across a\n# change to one.\n",
+            );
+            for f in &files.read {
+                resolved.push_str(&f.record());
+                resolved.push('\n');
+            }
+        }
         Ok(Experiment {
             name: first.name.clone(),
             seeds,
@@ -155,6 +238,7 @@ impl Experiment {
             .unwrap_or_else(|_| base.to_path_buf()),
             source: text.to_string(),
             overrides: overrides.to_vec(),
+            inputs: files.read,
         })
     }
 

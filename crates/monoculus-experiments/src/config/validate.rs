@@ -15,13 +15,14 @@ pub(super) fn validate_axes(axes: &[Axis], src: &Source<'_>) -> Result<usize, Co
         return Err(src.error(&name.path, "one plain name for the experiment, not a list"));
     }
     for axis in axes {
-        for (k, v) in axis.values.iter().enumerate() {
-            if axis.values[..k].contains(v) {
-                return Err(src.error(
-                    &axis.path,
-                    format!("the list has {} twice: every cell must differ", render(v)),
-                ));
-            }
+        // Values compared by their TOML text (`1` and `1.0` differ, as toml::Value's
+        // equality has them), in one pass.
+        let mut seen = std::collections::HashSet::with_capacity(axis.values.len());
+        if let Some(v) = axis.values.iter().find(|v| !seen.insert(v.to_string())) {
+            return Err(src.error(
+                &axis.path,
+                format!("the list has {} twice: every cell must differ", render(v)),
+            ));
         }
     }
     axes.iter()
@@ -105,11 +106,30 @@ pub(super) fn name_problem(name: &str) -> Option<String> {
     Some(format!("{name:?} {problem}"))
 }
 
-/// The files an experiment's cells read, each read once.
+/// The files an experiment's cells read, each read once, with their contents' hashes.
 #[derive(Default)]
 pub(super) struct Files {
     positions: HashMap<PathBuf, PositionsFile>,
     schedules: HashMap<PathBuf, ScheduleFile>,
+    /// Every file read, in the order first read.
+    pub(super) read: Vec<InputFile>,
+}
+
+impl Files {
+    /// The text of the file `written` (as the config names it under `key`), read once;
+    /// its hash joins the experiment's identity.
+    fn text(&mut self, key: &str, written: &str, path: &Path) -> Result<String, PositionsError> {
+        let text = crate::positions::read_text(path)?;
+        if !self.read.iter().any(|f| f.key == key && f.path == path) {
+            self.read.push(InputFile {
+                key: key.to_string(),
+                written: written.to_string(),
+                path: path.to_path_buf(),
+                hash: crate::results::config_hash(&text),
+            });
+        }
+        Ok(text)
+    }
 }
 
 /// What a cell reads from files: its positions (`swarm.file`) and schedule
@@ -264,8 +284,10 @@ pub(super) fn validate(
         let pts = match files.positions.get(&path) {
             Some(p) => p.clone(),
             None => {
-                let p =
-                    read_positions(&path).map_err(|e| src.error("swarm.file", e.to_string()))?;
+                let p = files
+                    .text("swarm.file", file, &path)
+                    .and_then(|text| parse_positions(&text, &path.display().to_string()))
+                    .map_err(|e| src.error("swarm.file", e.to_string()))?;
                 files.positions.insert(path.clone(), p.clone());
                 p
             }
@@ -277,6 +299,15 @@ pub(super) fn validate(
             return err(
                 "swarm.file",
                 format!("dim = 3 needs a z column in {}", path.display()),
+            );
+        }
+        if s.dim == 2 && pts.has_z {
+            return err(
+                "swarm.file",
+                format!(
+                    "{} has a z column, but dim = 2: set swarm.dim = 3, or drop the column",
+                    path.display()
+                ),
             );
         }
         if let Some(n) = s.n
@@ -364,7 +395,9 @@ pub(super) fn validate(
             let schedule = match files.schedules.get(&path) {
                 Some(s) => s.clone(),
                 None => {
-                    let s = read_schedule(&path)
+                    let s = files
+                        .text("scheduler.file", file, &path)
+                        .and_then(|text| parse_schedule(&text, &path.display().to_string()))
                         .map_err(|e| src.error("scheduler.file", e.to_string()))?;
                     files.schedules.insert(path.clone(), s.clone());
                     s
@@ -429,6 +462,21 @@ pub(super) fn validate(
         };
         if let Some(m) = problem {
             return err(key, m);
+        }
+    }
+    if sc.kind == SchedulerKind::Async {
+        let timing = AsyncSpec {
+            idle: sc.idle,
+            compute: sc.compute,
+            motion: sc.motion,
+            start: sc.start,
+        };
+        if let Err((phase, m)) = timing.check(spec.stop.max_rounds) {
+            let key = match phase {
+                "max_epochs" => "stop.max_rounds".to_string(),
+                p => format!("scheduler.{p}"),
+            };
+            return err(&key, m);
         }
     }
     let e = &spec.errors;

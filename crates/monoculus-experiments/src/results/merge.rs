@@ -7,12 +7,13 @@ use std::path::{Path, PathBuf};
 
 use super::ResultsError;
 use super::fsio::io;
+use super::fsio::write_atomic;
 use super::lock::LockKind;
 use super::provenance::{Attempt, Provenance, config_hash, this_build};
 use super::record::runs_header;
 use super::rows::{RunRows, read_rows, write_rows};
 use super::store::{SHARDS_DIR, lock_folder, shard_files};
-use super::summary::write_summary;
+use super::summary::summary_bytes;
 use crate::config::{Experiment, RunId};
 use crate::shard::{Shard, assign};
 
@@ -69,10 +70,12 @@ fn load_experiment(
     if exp.resolved != text {
         return Err(mismatch(
             &path,
-            format!(
-                "is not the experiment {} ran (another config or another monoculus)",
-                record_path.display()
-            ),
+            exp.changed_input(text).unwrap_or_else(|| {
+                format!(
+                    "is not the experiment {} ran (another config or another monoculus)",
+                    record_path.display()
+                )
+            }),
         ));
     }
     Ok(exp)
@@ -131,26 +134,44 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
         records.push((record, record_path));
     }
     let exp = load_experiment(dir, &config_text, &records[0].0, &records[0].1)?;
+    let runs = exp.runs();
+    let of = assign(&exp, count);
+    let share: HashMap<RunId, usize> = runs.iter().copied().zip(of.iter().copied()).collect();
+    // Every row checked before anything is written: its run, its parameters and metrics
+    // (`check`), its shard, and that no other row is that run.
     let mut all: Option<RunRows> = None;
     let mut origin: HashMap<RunId, (PathBuf, usize)> = HashMap::new();
     let mut cut_lines = Vec::new();
-    for (_, path) in &files {
+    for (shard, path) in &files {
         let found = read_rows(path)?;
         if found.partial {
             cut_lines.push((path.clone(), found.rows.len() + 2));
         }
         let rows = found.check(&exp, path)?;
         for (id, &line) in rows.ids.iter().zip(&rows.lines) {
+            if share[id] != shard.index {
+                return Err(ResultsError::Corrupt {
+                    path: path.display().to_string(),
+                    line,
+                    message: format!(
+                        "cell {}, seed {} is a run of shard {}/{count}, not of shard {shard}: this file holds another shard's rows",
+                        crate::shown(&exp.cells[id.cell].key),
+                        id.seed,
+                        share[id]
+                    ),
+                });
+            }
             if let Some((other, other_line)) = origin.insert(*id, (path.clone(), line)) {
-                return Err(mismatch(
-                    path,
-                    format!(
-                        "line {line}: cell {}, seed {} is also in {}:{other_line}; each run must be in one shard file",
-                        exp.cells[id.cell].key,
+                return Err(ResultsError::Corrupt {
+                    path: path.display().to_string(),
+                    line,
+                    message: format!(
+                        "cell {}, seed {} is also at {}:{other_line}; each run must be in the results once",
+                        crate::shown(&exp.cells[id.cell].key),
                         id.seed,
                         other.display()
                     ),
-                ));
+                });
             }
         }
         match &mut all {
@@ -159,8 +180,6 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
         }
     }
     let mut rows = all.expect("at least one shard file");
-    let runs = exp.runs();
-    let of = assign(&exp, count);
     let by_path: HashMap<usize, PathBuf> =
         files.iter().map(|(s, p)| (s.index, p.clone())).collect();
     let mut missing = Vec::new();
@@ -185,16 +204,19 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
             });
         }
     }
-    let written = missing.is_empty() || partial;
+    let absent: usize = missing.iter().map(|m| m.missing.len()).sum();
+    let written = absent == 0 || partial;
     if written {
         rows.sort();
-        write_rows(&dir.join("runs.csv"), &runs_header(&exp), &rows.rows)?;
-        write_summary(&dir.join("summary.csv"), &exp, &rows)?;
+        let summary = summary_bytes(&exp, &rows);
         let mut merged = Provenance::new(&exp);
+        merged.missing_runs = absent as u64;
         for (r, _) in records {
             merged.attempts.extend(r.attempts);
         }
         merged.attempts.push(attempt);
+        write_rows(&dir.join("runs.csv"), &runs_header(&exp), &rows.rows)?;
+        write_atomic(&dir.join("summary.csv"), &summary)?;
         merged.write(&dir.join("provenance.toml"))?;
     }
     Ok(MergeReport {

@@ -20,8 +20,12 @@ pub use record::{
     run_row, runs_header,
 };
 pub use rows::{FoundRows, RunRows, read_rows, write_rows};
-pub use store::{LOCK_FILE, OpenSpec, ResultsDir, ResultsError, SHARDS_DIR, shard_files};
+pub use store::{
+    LOCK_FILE, OpenSpec, ResultsDir, ResultsError, SHARDS_DIR, folder_outputs, shard_files,
+};
 pub use stress_log::{
     StressLog, StressMerge, StressRow, merge_stress, read_stress, stress_shard_path,
 };
-pub use summary::{CellStats, SUMMARY_COLUMNS, SummaryStats, quantile, write_summary};
+pub use summary::{
+    CellStats, SUMMARY_COLUMNS, SummaryStats, quantile, summary_bytes, write_summary,
+};

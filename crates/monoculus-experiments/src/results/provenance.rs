@@ -26,6 +26,10 @@ pub fn config_hash(text: &str) -> String {
     format!("{h:016x}")
 }
 
+fn is_zero(x: &u64) -> bool {
+    *x == 0
+}
+
 /// "monoculus 0.1.0 (commit abc)" of this build.
 pub fn this_build() -> String {
     format!("monoculus {VERSION} (commit {GIT_COMMIT})")
@@ -101,6 +105,10 @@ pub struct Provenance {
     /// The `--set` overrides, in order.
     #[serde(default)]
     pub config_overrides: Vec<String>,
+    /// Runs of the experiment not in the results: a merge with `--partial` that lacked
+    /// some (0, not written, for complete results).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub missing_runs: u64,
     /// Every process that wrote, oldest first.
     #[serde(default, rename = "attempt")]
     pub attempts: Vec<Attempt>,
@@ -116,6 +124,7 @@ impl Provenance {
             config_base: exp.base.display().to_string(),
             config_source: exp.source.clone(),
             config_overrides: exp.overrides.clone(),
+            missing_runs: 0,
             attempts: Vec::new(),
         }
     }

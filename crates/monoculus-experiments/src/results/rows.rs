@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::ResultsError;
 use super::fsio::{read_complete_lines, write_atomic};
-use super::record::{CONFIG_HASH_COLUMN, runs_header};
+use super::record::{CONFIG_HASH_COLUMN, RunMetrics, param_values, runs_header};
 use crate::config::{Experiment, RunId};
 
 /// One CSV record as bytes, newline included.
@@ -71,8 +71,9 @@ pub struct RunRows {
 }
 
 impl FoundRows {
-    /// Checks the header, the config hash of every row, and that every row is a run of
-    /// `exp`.
+    /// Checks the header and every row: its config hash, that it is a run of `exp`
+    /// (its cell and seed), that its parameter columns are its cell's, and that every
+    /// metric reads as its column's type. The first bad row is named by file and line.
     pub fn check(&self, exp: &Experiment, path: &Path) -> Result<RunRows, ResultsError> {
         let header = runs_header(exp);
         if self.header.is_empty() {
@@ -96,6 +97,8 @@ impl FoundRows {
             .iter()
             .map(|c| (c.key.as_str(), c.index))
             .collect();
+        let params: Vec<Vec<String>> = exp.cells.iter().map(|c| param_values(exp, c)).collect();
+        let schema = RunMetrics::schema(&header).expect("runs.csv has a seed column");
         let seeds: HashSet<u64> = exp.seeds.iter().copied().collect();
         let mut ids = Vec::with_capacity(self.rows.len());
         let mut lines = Vec::with_capacity(self.rows.len());
@@ -111,26 +114,37 @@ impl FoundRows {
                     path: format!("{}:{line}", path.display()),
                     message: format!(
                         "a row of another experiment (config hash {}, this one's is {}); use --force to start over, or another --out",
-                        row[hi], exp.hash
+                        crate::shown(&row[hi]),
+                        exp.hash
                     ),
                 });
             }
             let cell = *cells.get(row[ci].as_str()).ok_or_else(|| {
                 bad(format!(
-                    "column cell: `{}` is not a cell of this experiment",
-                    row[ci]
+                    "column cell: {} is not a cell of this experiment",
+                    crate::shown(&row[ci])
                 ))
             })?;
+            if let Some(c) = (0..params[cell].len()).find(|&c| row[c] != params[cell][c]) {
+                return Err(bad(format!(
+                    "column {}: {} is not cell {}'s value ({})",
+                    header[c],
+                    crate::shown(&row[c]),
+                    crate::shown(&row[ci]),
+                    crate::shown(&params[cell][c])
+                )));
+            }
             let seed: u64 = row[si]
                 .parse()
                 .ok()
                 .filter(|s| seeds.contains(s))
                 .ok_or_else(|| {
                     bad(format!(
-                        "column seed: `{}` is not a seed of this experiment",
-                        row[si]
+                        "column seed: {} is not a seed of this experiment",
+                        crate::shown(&row[si])
                     ))
                 })?;
+            schema.read::<RunMetrics>(row).map_err(bad)?;
             ids.push(RunId { cell, seed });
             lines.push(line);
         }

@@ -40,7 +40,7 @@ pub enum ResultsError {
         message: String,
     },
     /// A row of a results file is malformed.
-    #[error("{}:{line}: {}", crate::one_line(path), crate::one_line(message))]
+    #[error("{}:{line}: {}", crate::one_line(path), crate::short_quotes(&crate::one_line(message)))]
     Corrupt {
         /// The file.
         path: String,
@@ -57,6 +57,15 @@ pub enum ResultsError {
         /// Who holds it.
         holder: String,
     },
+}
+
+impl From<crate::output::OutputError> for ResultsError {
+    fn from(e: crate::output::OutputError) -> Self {
+        ResultsError::Io {
+            path: e.path,
+            cause: e.cause,
+        }
+    }
 }
 
 /// The folder's lock file.
@@ -84,6 +93,29 @@ pub fn shard_files(dir: &Path) -> Result<Vec<(Shard, PathBuf)>, ResultsError> {
     }
     out.sort_by_key(|(s, _)| (s.count, s.index));
     Ok(out)
+}
+
+/// The files a run into `dir` may write (the shard's own with `shard`), each with its
+/// name: what a command checks against its inputs before it starts.
+pub fn folder_outputs(dir: &Path, shard: Option<Shard>) -> Vec<(String, PathBuf)> {
+    let mut files: Vec<PathBuf> = ["config.toml", "runs.csv", "summary.csv", "provenance.toml"]
+        .iter()
+        .map(|f| dir.join(f))
+        .collect();
+    if let Some(s) = shard {
+        let rows = dir.join(SHARDS_DIR).join(format!("{}.csv", s.stem()));
+        files.push(rows.with_extension("toml"));
+        files.push(rows);
+    }
+    files
+        .into_iter()
+        .map(|p| {
+            (
+                format!("--out's {}", p.strip_prefix(dir).unwrap_or(&p).display()),
+                p,
+            )
+        })
+        .collect()
 }
 
 /// Who holds the folder: the shards running in it, or the holder of its lock.
@@ -130,7 +162,10 @@ fn settle_config(
         if old != exp.resolved {
             return Err(ResultsError::Mismatch {
                 path: config.display().to_string(),
-                message: format!("holds a different experiment; {advice}"),
+                message: match exp.changed_input(&old) {
+                    Some(changed) => changed,
+                    None => format!("holds a different experiment; {advice}"),
+                },
             });
         }
     }

@@ -62,7 +62,7 @@ pub fn quantile(values: &[f64], q: f64) -> f64 {
 }
 
 /// Statistic columns of `summary.csv`.
-pub const SUMMARY_COLUMNS: [&str; 12] = [
+pub const SUMMARY_COLUMNS: [&str; 13] = [
     "runs",
     "converged",
     "rho_median",
@@ -75,6 +75,7 @@ pub const SUMMARY_COLUMNS: [&str; 12] = [
     "rounds_q3",
     "hull_grew_runs",
     "hull_growth_max_median",
+    "missing",
 ];
 
 /// The statistics part of a row of `summary.csv`, after the cell's parameters: the
@@ -114,12 +115,17 @@ pub struct SummaryStats {
     /// Over those runs, the median of the largest relative growth in one round.
     #[serde(with = "plain")]
     pub hull_growth_max_median: f64,
+    /// Runs of the cell that are not in the results (0 unless the sweep is unfinished or
+    /// the folder was merged with `--partial`). Absent from folders written before 0.3.
+    #[serde(default)]
+    pub missing: u64,
 }
 
 impl SummaryStats {
-    /// The statistics of one cell's runs.
-    pub fn of(s: &CellStats) -> Self {
+    /// The statistics of one cell's runs, `missing` of its runs absent.
+    pub fn of(s: &CellStats, missing: u64) -> Self {
         SummaryStats {
+            missing,
             runs: s.runs as u64,
             converged: s.converged as u64,
             rho_median: quantile(&s.rho, 0.5),
@@ -149,26 +155,22 @@ pub fn summary_header(params: &[String]) -> Vec<String> {
 }
 
 /// One cell's row.
-pub fn summary_row(mut params: Vec<String>, s: &CellStats) -> Vec<String> {
-    params.extend(fields_of(&SummaryStats::of(s)));
+pub fn summary_row(mut params: Vec<String>, s: &CellStats, missing: u64) -> Vec<String> {
+    params.extend(fields_of(&SummaryStats::of(s, missing)));
     params
 }
 
-/// Writes `summary.csv` (atomically) from checked rows: one row per cell that has runs,
-/// each run counted once.
-pub fn write_summary(path: &Path, exp: &Experiment, rows: &RunRows) -> Result<(), ResultsError> {
+/// `summary.csv` from checked rows ([`super::FoundRows::check`]): one row per cell,
+/// each run counted once, with the runs the cell lacks.
+pub fn summary_bytes(exp: &Experiment, rows: &RunRows) -> Vec<u8> {
     let mut stats: Vec<CellStats> = exp.cells.iter().map(|_| CellStats::default()).collect();
     let schema = RunMetrics::schema(&rows.header).expect("runs.csv has a seed column");
     let mut unique = std::collections::HashSet::new();
-    for ((row, id), &line) in rows.rows.iter().zip(&rows.ids).zip(&rows.lines) {
+    for (row, id) in rows.rows.iter().zip(&rows.ids) {
         if !unique.insert(*id) {
             continue;
         }
-        let m: RunMetrics = schema.read(row).map_err(|message| ResultsError::Corrupt {
-            path: path.with_file_name("runs.csv").display().to_string(),
-            line,
-            message,
-        })?;
+        let m: RunMetrics = schema.read(row).expect("rows are checked when read");
         let s = &mut stats[id.cell];
         s.add(m.rho, m.tau, m.rounds as f64, m.converged);
         s.add_hull(m.hull_growth_max);
@@ -176,13 +178,19 @@ pub fn write_summary(path: &Path, exp: &Experiment, rows: &RunRows) -> Result<()
     let mut out = csv::WriterBuilder::new().from_writer(vec![]);
     out.write_record(summary_header(&param_header(exp)))
         .expect("memory");
+    let seeds = exp.seeds.len();
     for cell in &exp.cells {
-        if stats[cell.index].runs > 0 {
-            out.write_record(summary_row(param_values(exp, cell), &stats[cell.index]))
-                .expect("memory");
-        }
+        let s = &stats[cell.index];
+        let missing = (seeds - s.runs) as u64;
+        out.write_record(summary_row(param_values(exp, cell), s, missing))
+            .expect("memory");
     }
-    write_atomic(path, &out.into_inner().expect("memory"))
+    out.into_inner().expect("memory")
+}
+
+/// Writes `summary.csv`, whole or not at all, from checked rows (see [`summary_bytes`]).
+pub fn write_summary(path: &Path, exp: &Experiment, rows: &RunRows) -> Result<(), ResultsError> {
+    write_atomic(path, &summary_bytes(exp, rows))
 }
 
 #[cfg(test)]
@@ -191,9 +199,9 @@ mod tests {
 
     #[test]
     fn the_schema_is_the_header() {
-        let row = fields_of(&SummaryStats::of(&CellStats::default()));
+        let row = fields_of(&SummaryStats::of(&CellStats::default(), 0));
         let mut w = csv::Writer::from_writer(vec![]);
-        w.serialize(SummaryStats::of(&CellStats::default()))
+        w.serialize(SummaryStats::of(&CellStats::default(), 0))
             .unwrap();
         let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
         assert_eq!(text.lines().next().unwrap(), SUMMARY_COLUMNS.join(","));
