@@ -3,8 +3,13 @@
 
 /// The most cells one experiment may have (the product of its lists' lengths).
 pub const MAX_CELLS: usize = 1_000_000;
-/// The most runs (cells x seeds) one experiment may have.
-pub const MAX_RUNS: u64 = 100_000_000;
+/// The most runs (cells x seeds) one experiment may have: what one machine can sort and
+/// summarise at the end of a sweep (about [`BYTES_PER_RESULT`] a run: 12 GB at this
+/// maximum, checked against the machine's memory by [`check_results`]).
+pub const MAX_RUNS: u64 = 10_000_000;
+/// Memory per run's row when a sweep's results are read back to be checked, sorted and
+/// summarised (measured: 229 MB peak for a sweep of 2 x 10^5 runs).
+pub const BYTES_PER_RESULT: u64 = 1200;
 /// The largest config file read, bytes (8 MiB): a config of 5 x 10^4 list values is
 /// under 1 MB.
 pub const MAX_CONFIG_BYTES: u64 = 8 << 20;
@@ -37,6 +42,26 @@ pub fn human(bytes: u64) -> String {
         }
     }
     format!("{bytes} B")
+}
+
+/// The memory the results of `runs` runs need when they are read back, bytes.
+pub fn results_bytes(runs: u64) -> u64 {
+    runs.saturating_mul(BYTES_PER_RESULT)
+}
+
+/// Checks that the results of `runs` runs fit in this machine's memory when read back
+/// (at the end of a sweep, and by `merge`).
+pub fn check_results(runs: u64) -> Result<(), String> {
+    if let Some(have) = machine_bytes()
+        && results_bytes(runs) > have / 2
+    {
+        return Err(format!(
+            "{runs} runs: their results need about {} when the sweep ends (sorted and summarised); this machine has {}: split the experiment",
+            human(results_bytes(runs)),
+            human(have)
+        ));
+    }
+    Ok(())
 }
 
 /// Checks that one run of `n` robots fits in this machine's memory (and in the engine's

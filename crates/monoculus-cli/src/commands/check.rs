@@ -1,4 +1,4 @@
-use monoculus_experiments::limits::{human, machine_bytes, run_bytes};
+use monoculus_experiments::limits::{human, machine_bytes, results_bytes, run_bytes};
 
 use super::{ConfigArgs, Failure};
 
@@ -37,9 +37,10 @@ pub fn check(args: CheckArgs) -> Result<(), Failure> {
     let machine =
         machine_bytes().map_or_else(String::new, |m| format!("; this machine has {}", human(m)));
     outln!(
-        "memory: about {} per run (n = {largest}), {} with {at_once} runs at once{machine}",
+        "memory: about {} per run (n = {largest}), {} with {at_once} runs at once, {} for the results when the sweep ends{machine}",
         human(per_run),
-        human(per_run.saturating_mul(at_once))
+        human(per_run.saturating_mul(at_once)),
+        human(results_bytes(runs as u64))
     );
     Ok(())
 }

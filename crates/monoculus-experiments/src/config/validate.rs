@@ -50,16 +50,17 @@ pub(super) fn validate_run_count(
         Seeds::Count(c) => *c,
         Seeds::List(v) => v.len() as u64,
     };
-    if seed_count.saturating_mul(cells as u64) > crate::limits::MAX_RUNS {
+    let runs = seed_count.saturating_mul(cells as u64);
+    if runs > crate::limits::MAX_RUNS {
         return Err(src.error(
             "seeds",
             format!(
-                "{seed_count} seeds x {cells} cells: at most {} runs in one experiment",
+                "{seed_count} seeds x {cells} cells: at most {} runs in one experiment (split it into several)",
                 crate::limits::MAX_RUNS
             ),
         ));
     }
-    Ok(())
+    crate::limits::check_results(runs).map_err(|m| src.error("seeds", m))
 }
 
 /// A number as a person writes it: plain, or with an exponent when very large or small.

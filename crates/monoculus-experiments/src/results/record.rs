@@ -332,7 +332,10 @@ impl RowSchema {
     }
 
     /// Reads that part of `row` as a `T`; an error names the column.
-    pub fn read<T: serde::de::DeserializeOwned>(&self, row: &[String]) -> Result<T, String> {
+    pub fn read<T: serde::de::DeserializeOwned, S: AsRef<str>>(
+        &self,
+        row: &[S],
+    ) -> Result<T, String> {
         let from = self.from;
         if row.len() != self.header.len() {
             return Err(format!(
@@ -341,7 +344,7 @@ impl RowSchema {
                 self.header.len()
             ));
         }
-        let rec = csv::StringRecord::from(&row[from..]);
+        let rec: csv::StringRecord = row[from..].iter().map(AsRef::as_ref).collect();
         rec.deserialize(Some(&self.head)).map_err(|e| {
             let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
                 return e.to_string();
@@ -350,13 +353,27 @@ impl RowSchema {
             // The column: as serde reports it, or the one holding the quoted value.
             let quoted = message.split('`').nth(1);
             let column = err.field().map(|k| from + k as usize).or_else(|| {
-                quoted.and_then(|v| row[from..].iter().position(|c| c == v).map(|k| from + k))
+                quoted.and_then(|v| {
+                    row[from..]
+                        .iter()
+                        .position(|c| c.as_ref() == v)
+                        .map(|k| from + k)
+                })
             });
             match column.and_then(|c| self.header.get(c)) {
                 Some(name) => format!("column {name}: {message}"),
                 None => message,
             }
         })
+    }
+
+    /// [`RowSchema::read`] of a record as read from a file.
+    pub fn read_record<T: serde::de::DeserializeOwned>(
+        &self,
+        row: &csv::StringRecord,
+    ) -> Result<T, String> {
+        let fields: Vec<&str> = row.iter().collect();
+        self.read(&fields)
     }
 }
 
@@ -429,7 +446,7 @@ mod tests {
         let mut bad = m.fields();
         bad[6] = "1.2.3".into();
         assert_eq!(
-            schema.read::<RunMetrics>(&bad).unwrap_err(),
+            schema.read::<RunMetrics, _>(&bad).unwrap_err(),
             "column rho: `1.2.3` is not a number"
         );
     }

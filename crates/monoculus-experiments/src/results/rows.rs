@@ -10,7 +10,11 @@ use super::record::{CONFIG_HASH_COLUMN, RunMetrics, param_values, runs_header};
 use crate::config::{Experiment, RunId};
 
 /// One CSV record as bytes, newline included.
-pub(crate) fn line_of(record: &[String]) -> Vec<u8> {
+pub(crate) fn line_of<I, T>(record: I) -> Vec<u8>
+where
+    I: IntoIterator<Item = T>,
+    T: AsRef<[u8]>,
+{
     let mut w = csv::WriterBuilder::new()
         .has_headers(false)
         .from_writer(vec![]);
@@ -23,8 +27,9 @@ pub(crate) fn line_of(record: &[String]) -> Vec<u8> {
 pub struct FoundRows {
     /// The header (empty for an empty file).
     pub header: Vec<String>,
-    /// The complete rows.
-    pub rows: Vec<Vec<String>>,
+    /// The complete rows (a record keeps its fields in one buffer: a few hundred bytes
+    /// a run, so that millions of rows fit in memory).
+    pub rows: Vec<csv::StringRecord>,
     /// The file ended in a line cut short (left out of `rows`).
     pub partial: bool,
 }
@@ -48,7 +53,7 @@ pub fn read_rows(path: &Path) -> Result<FoundRows, ResultsError> {
         .collect();
     let mut rows = Vec::new();
     for r in reader.records() {
-        rows.push(r.map_err(corrupt)?.iter().map(String::from).collect());
+        rows.push(r.map_err(corrupt)?);
     }
     Ok(FoundRows {
         header,
@@ -63,7 +68,7 @@ pub struct RunRows {
     /// The header.
     pub header: Vec<String>,
     /// The rows, in file order.
-    pub rows: Vec<Vec<String>>,
+    pub rows: Vec<csv::StringRecord>,
     /// The run of each row.
     pub ids: Vec<RunId>,
     /// The 1-based file line of each row.
@@ -74,7 +79,7 @@ impl FoundRows {
     /// Checks the header and every row: its config hash, that it is a run of `exp`
     /// (its cell and seed), that its parameter columns are its cell's, and that every
     /// metric reads as its column's type. The first bad row is named by file and line.
-    pub fn check(&self, exp: &Experiment, path: &Path) -> Result<RunRows, ResultsError> {
+    pub fn check(self, exp: &Experiment, path: &Path) -> Result<RunRows, ResultsError> {
         let header = runs_header(exp);
         if self.header.is_empty() {
             return Ok(RunRows {
@@ -119,13 +124,13 @@ impl FoundRows {
                     ),
                 });
             }
-            let cell = *cells.get(row[ci].as_str()).ok_or_else(|| {
+            let cell = *cells.get(&row[ci]).ok_or_else(|| {
                 bad(format!(
                     "column cell: {} is not a cell of this experiment",
                     crate::shown(&row[ci])
                 ))
             })?;
-            if let Some(c) = (0..params[cell].len()).find(|&c| row[c] != params[cell][c]) {
+            if let Some(c) = (0..params[cell].len()).find(|&c| row[c] != *params[cell][c]) {
                 return Err(bad(format!(
                     "column {}: {} is not cell {}'s value ({})",
                     header[c],
@@ -144,13 +149,13 @@ impl FoundRows {
                         crate::shown(&row[si])
                     ))
                 })?;
-            schema.read::<RunMetrics>(row).map_err(bad)?;
+            schema.read_record::<RunMetrics>(row).map_err(bad)?;
             ids.push(RunId { cell, seed });
             lines.push(line);
         }
         Ok(RunRows {
             header,
-            rows: self.rows.clone(),
+            rows: self.rows,
             ids,
             lines,
         })
@@ -176,13 +181,24 @@ impl RunRows {
         unique.len() == self.ids.len() && unique.len() == exp.cells.len() * exp.seeds.len()
     }
 
-    /// Sorts by cell, then seed.
-    pub fn sort(&mut self) {
+    /// Sorts by cell, then seed; whether the order changed.
+    pub fn sort(&mut self) -> bool {
         let mut order: Vec<usize> = (0..self.rows.len()).collect();
         order.sort_by_key(|&k| (self.ids[k].cell, self.ids[k].seed, k));
-        self.rows = order.iter().map(|&k| self.rows[k].clone()).collect();
+        if order.iter().enumerate().all(|(i, &k)| i == k) {
+            return false;
+        }
+        let mut rows: Vec<Option<csv::StringRecord>> = std::mem::take(&mut self.rows)
+            .into_iter()
+            .map(Some)
+            .collect();
+        self.rows = order
+            .iter()
+            .map(|&k| rows[k].take().expect("each row once"))
+            .collect();
         self.ids = order.iter().map(|&k| self.ids[k]).collect();
         self.lines = order.iter().map(|&k| self.lines[k]).collect();
+        true
     }
 
     /// Appends other rows of the same experiment.
@@ -197,11 +213,14 @@ impl RunRows {
 pub fn write_rows(
     path: &Path,
     header: &[String],
-    rows: &[Vec<String>],
+    rows: &[csv::StringRecord],
 ) -> Result<(), ResultsError> {
-    let mut bytes = line_of(header);
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::with_capacity(rows.len() * 256));
+    w.write_record(header).expect("writing to memory");
     for r in rows {
-        bytes.extend(line_of(r));
+        w.write_record(r).expect("writing to memory");
     }
-    write_atomic(path, &bytes)
+    write_atomic(path, &w.into_inner().expect("writing to memory"))
 }

@@ -310,14 +310,12 @@ impl ResultsDir {
         let mut dropped_duplicates = 0;
         if rows_path.exists() {
             let found = read_rows(&rows_path)?;
+            let (partial, headless) = (found.partial, found.header.is_empty());
             let mut rows = found.check(exp, &rows_path)?;
             let before = rows.rows.len();
             rows.dedup();
             dropped_duplicates = before - rows.rows.len();
-            if found.partial
-                || dropped_duplicates > 0
-                || found.rows.is_empty() && found.header.is_empty()
-            {
+            if partial || dropped_duplicates > 0 || rows.rows.is_empty() && headless {
                 write_rows(&rows_path, &header, &rows.rows)?;
             }
             done = rows.ids.iter().copied().collect();
@@ -364,9 +362,8 @@ impl ResultsDir {
         let rows = read_rows(&self.rows_path)?.check(exp, &self.rows_path)?;
         write_summary(&self.dir.join("summary.csv"), exp, &rows)?;
         if rows.is_complete(exp) {
-            let mut sorted = rows.clone();
-            sorted.sort();
-            if sorted.rows != rows.rows {
+            let mut sorted = rows;
+            if sorted.sort() {
                 write_rows(&self.rows_path, &runs_header(exp), &sorted.rows)?;
             }
         }

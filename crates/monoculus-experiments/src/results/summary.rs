@@ -170,7 +170,7 @@ pub fn summary_bytes(exp: &Experiment, rows: &RunRows) -> Vec<u8> {
         if !unique.insert(*id) {
             continue;
         }
-        let m: RunMetrics = schema.read(row).expect("rows are checked when read");
+        let m: RunMetrics = schema.read_record(row).expect("rows are checked when read");
         let s = &mut stats[id.cell];
         s.add(m.rho, m.tau, m.rounds as f64, m.converged);
         s.add_hull(m.hull_growth_max);
