@@ -25,12 +25,16 @@ pub fn run_bytes(n: u64) -> u64 {
         .saturating_add(BYTES_PER_RUN)
 }
 
-/// This machine's memory (`MemTotal` of /proc/meminfo), bytes, where known.
+/// This machine's memory (`MemTotal` of /proc/meminfo), bytes, where known; read once
+/// (a sweep checks every cell against it).
 pub fn machine_bytes() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+    static MEMORY: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    *MEMORY.get_or_init(|| {
+        let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+        let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+        let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kb * 1024)
+    })
 }
 
 /// `bytes` for people: 1.5 GB, 230 MB, 12 kB.
