@@ -152,7 +152,7 @@ fn late_round(c: &mut Criterion) {
         for &n in sizes {
             let pts = late_locality(n, 6);
             let mut config = paper_config(AlgorithmKind::ConvergeLocality, 6);
-            config.algorithm.target = target;
+            config.model.target = target;
             g.bench_with_input(BenchmarkId::new(name, n), &pts, |b, pts| {
                 b.iter_batched(
                     || Simulation::new(config.clone(), pts.clone()).unwrap(),

@@ -13,9 +13,11 @@ pub mod vision;
 /// The most used items.
 pub mod prelude {
     pub use crate::algorithms::{
-        AlgorithmKind, AlgorithmParams, Decision, RobotMemory, TargetPolicy, activate,
+        Algorithm, AlgorithmKind, Decision, Directions, Ld, ModelParams, NoParams, Observation,
+        Ola, Positions, StopCriterion, TargetPolicy, activate,
     };
     pub use crate::geometry::{AxisFrame, HullGeometry, Point};
+    pub use crate::observe::{Seen, Side};
     pub use crate::rng::{Purpose, Stream};
     pub use crate::vision::{ExactSight, Sight, VisionParams};
 }

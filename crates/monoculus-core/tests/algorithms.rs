@@ -1,7 +1,11 @@
 //! Each algorithm on hand-built configurations.
 
 use glam::DVec2;
-use monoculus_core::algorithms::{AlgorithmKind, AlgorithmParams, RobotMemory, activate};
+use monoculus_core::algorithms::{
+    AlgorithmKind, AngleBisector, CenterOfGravity, ConvergeLocality, ConvergeQuadrant,
+    ConvergeQuadrantTermination, Kept, LocalFrame, Median, ModelParams, TerminationBits, activate,
+    certainly_stays,
+};
 use monoculus_core::geometry::AxisFrame;
 use monoculus_core::observe::LdObservation;
 use monoculus_core::rng::Stream;
@@ -14,8 +18,59 @@ fn sight(pts: &[(f64, f64)]) -> ExactSight<DVec2> {
     )
 }
 
-fn params(kind: AlgorithmKind) -> AlgorithmParams {
-    AlgorithmParams::new(kind, 1.0, 2.0)
+fn params(_: AlgorithmKind) -> ModelParams {
+    ModelParams::new(1.0, 2.0)
+}
+
+/// The termination algorithm's memory: its axes and bits.
+type Bits = Kept<DVec2, TerminationBits>;
+
+fn fresh(frame: AxisFrame) -> Bits {
+    Kept {
+        frame: LocalFrame::Axes(frame),
+        state: TerminationBits::default(),
+    }
+}
+
+/// One activation of robot `i` by `kind` (`kept`: the termination algorithm's memory).
+fn act(
+    kind: AlgorithmKind,
+    p: &ModelParams,
+    s: &ExactSight<DVec2>,
+    i: usize,
+    kept: Option<&mut Bits>,
+    stream: &mut Stream,
+) -> Option<DVec2> {
+    let none = None;
+    match kind {
+        AlgorithmKind::ConvergeLocality => activate(&ConvergeLocality, p, s, i, none, stream),
+        AlgorithmKind::ConvergeQuadrant => activate(&ConvergeQuadrant, p, s, i, none, stream),
+        AlgorithmKind::ConvergeQuadrantTermination => {
+            activate(&ConvergeQuadrantTermination, p, s, i, kept, stream)
+        }
+        AlgorithmKind::CenterOfGravity => activate(&CenterOfGravity, p, s, i, none, stream),
+        AlgorithmKind::Median => activate(&Median, p, s, i, none, stream),
+        AlgorithmKind::AngleBisector => activate(&AngleBisector, p, s, i, none, stream),
+    }
+    .expect("the paper's algorithms decide unit steps")
+}
+
+/// Whether `kind`'s robot `i` is vouched for as staying.
+fn is_vouched(kind: AlgorithmKind, p: &ModelParams, s: &ExactSight<DVec2>, i: usize) -> bool {
+    match kind {
+        AlgorithmKind::ConvergeLocality => certainly_stays::<ConvergeLocality, _, _>(p, s, i),
+        AlgorithmKind::ConvergeQuadrant => certainly_stays::<ConvergeQuadrant, _, _>(p, s, i),
+        AlgorithmKind::ConvergeQuadrantTermination => {
+            certainly_stays::<ConvergeQuadrantTermination, _, _>(p, s, i)
+        }
+        AlgorithmKind::CenterOfGravity => certainly_stays::<CenterOfGravity, _, _>(p, s, i),
+        AlgorithmKind::Median => certainly_stays::<Median, _, _>(p, s, i),
+        AlgorithmKind::AngleBisector => certainly_stays::<AngleBisector, _, _>(p, s, i),
+    }
+}
+
+fn keeps(kind: AlgorithmKind) -> bool {
+    kind == AlgorithmKind::ConvergeQuadrantTermination
 }
 
 /// The displacements robot `i` chooses over many activations (different streams).
@@ -23,9 +78,9 @@ fn moves(kind: AlgorithmKind, s: &ExactSight<DVec2>, i: usize, trials: u64) -> V
     (0..trials)
         .map(|t| {
             let mut stream = Stream::new(11, 2, i as u64, t);
-            let mut memory = RobotMemory::new(AxisFrame::random(2, &mut stream));
-            let memory = kind.has_memory().then_some(&mut memory);
-            activate(&params(kind), s, i, memory, &mut stream)
+            let mut memory = fresh(AxisFrame::random(2, &mut stream));
+            let memory = keeps(kind).then_some(&mut memory);
+            act(kind, &params(kind), s, i, memory, &mut stream)
         })
         .collect()
 }
@@ -202,19 +257,18 @@ fn termination_bits_and_stop() {
     let p = params(AlgorithmKind::ConvergeQuadrantTermination);
     let mut stream = Stream::new(1, 1, 1, 1);
     let frame = AxisFrame::random(2, &mut stream);
-    let mut mem = RobotMemory::new(frame);
-    let m = activate(&p, &s, 0, Some(&mut mem), &mut stream)
+    let t = AlgorithmKind::ConvergeQuadrantTermination;
+    let mut mem = fresh(frame);
+    let m = act(t, &p, &s, 0, Some(&mut mem), &mut stream)
         .expect("a corner robot with fresh bits moves");
     assert!((m.length() - 1.0).abs() < 1e-12);
-    assert_eq!(mem.bits.count_ones(), 2, "one bit per empty side");
-    assert!(!mem.terminated());
+    assert_eq!(mem.state.0.count_ones(), 2, "one bit per empty side");
+    assert!(!mem.state.terminated(2));
     // Once the opposite sides were seen empty too, the robot stays for good.
-    let mut done = RobotMemory {
-        frame,
-        bits: 0b1111,
-    };
-    assert!(done.terminated());
-    assert!(activate(&p, &s, 0, Some(&mut done), &mut stream).is_none());
+    let mut done = fresh(frame);
+    done.state = TerminationBits(0b1111);
+    assert!(done.state.terminated(2));
+    assert!(act(t, &p, &s, 0, Some(&mut done), &mut stream).is_none());
     // An inner robot of both axes sets nothing and stays.
     let s2 = sight(&[
         (0.0, 0.0),
@@ -224,9 +278,9 @@ fn termination_bits_and_stop() {
         (4.0, 0.0),
         (2.0, 1.0),
     ]);
-    let mut m2 = RobotMemory::new(frame);
-    assert!(activate(&p, &s2, 5, Some(&mut m2), &mut stream).is_none());
-    assert_eq!(m2.bits, 0);
+    let mut m2 = fresh(frame);
+    assert!(act(t, &p, &s2, 5, Some(&mut m2), &mut stream).is_none());
+    assert_eq!(m2.state.0, 0);
 }
 
 #[test]
@@ -275,7 +329,6 @@ fn median_and_bisector_move_only_boundary_robots() {
 /// as it was, and the test does not vouch for robots that might move.
 #[test]
 fn certainly_stays_only_for_robots_that_stay() {
-    use monoculus_core::algorithms::certainly_stays;
     use monoculus_core::init::{InitShape, generate};
     let shapes = [
         InitShape::Square { side: 6.0 },
@@ -288,7 +341,7 @@ fn certainly_stays_only_for_robots_that_stay() {
         let s = ExactSight::new(pts.clone(), VisionParams::default());
         for kind in AlgorithmKind::ALL {
             for i in 0..pts.len() {
-                if !certainly_stays(&params(kind), &s, i) {
+                if !is_vouched(kind, &params(kind), &s, i) {
                     continue;
                 }
                 vouched += 1;
@@ -303,10 +356,10 @@ fn certainly_stays_only_for_robots_that_stay() {
                 for t in 0..8 {
                     let mut stream = Stream::new(3, 1, i as u64, t);
                     let frame = AxisFrame::random(2, &mut stream);
-                    let mut memory = RobotMemory::new(frame);
-                    let before = memory;
-                    let m = kind.has_memory().then_some(&mut memory);
-                    assert_eq!(activate(&params(kind), &s, i, m, &mut stream), None);
+                    let mut memory = fresh(frame);
+                    let before = memory.clone();
+                    let m = keeps(kind).then_some(&mut memory);
+                    assert_eq!(act(kind, &params(kind), &s, i, m, &mut stream), None);
                     assert_eq!(memory, before, "an inner robot sets no bit");
                 }
             }
@@ -315,7 +368,8 @@ fn certainly_stays_only_for_robots_that_stay() {
         let lo = pts.iter().fold(DVec2::INFINITY, |a, &p| a.min(p));
         for (i, p) in pts.iter().enumerate() {
             if p.x == lo.x || p.y == lo.y {
-                assert!(!certainly_stays(
+                assert!(!is_vouched(
+                    AlgorithmKind::ConvergeQuadrant,
                     &params(AlgorithmKind::ConvergeQuadrant),
                     &s,
                     i
@@ -364,7 +418,15 @@ fn target_draws_are_uniform_over_visible_far_points() {
         let ms: Vec<DVec2> = (0..trials)
             .map(|t| {
                 let mut stream = Stream::new(13, 2, 0, t);
-                activate(&p, &s, 0, None, &mut stream).unwrap()
+                act(
+                    AlgorithmKind::ConvergeLocality,
+                    &p,
+                    &s,
+                    0,
+                    None,
+                    &mut stream,
+                )
+                .unwrap()
             })
             .collect();
         // (3,0) is far too (distance 3): four visible far points. Choosing the hidden

@@ -1,7 +1,7 @@
 //! Components: what each robot entity carries.
 
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::RobotMemory;
+use monoculus_core::algorithms::Kept;
 
 use crate::IndexPoint;
 
@@ -25,6 +25,7 @@ pub struct Waiting(pub u32);
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct Intent<P: IndexPoint>(pub Option<P>);
 
-/// Persistent state of the termination algorithm (only robots of that algorithm carry it).
-#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Memory(pub RobotMemory);
+/// What a robot keeps between activations when its algorithm has a state (only the robots
+/// of such an algorithm carry it): its frame, fixed for the run, and the state.
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct Memory<P: IndexPoint, T: Clone + PartialEq + Send + Sync + 'static>(pub Kept<P, T>);

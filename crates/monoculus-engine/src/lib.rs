@@ -11,15 +11,17 @@
 //! use monoculus_core::prelude::*;
 //! use monoculus_core::errors::MovementErrors;
 //! use monoculus_core::init::{InitShape, generate};
+//! use monoculus_core::algorithms::ConvergeLocality;
 //! use monoculus_engine::prelude::*;
 //!
-//! let algorithm = AlgorithmParams::new(AlgorithmKind::ConvergeLocality, 1.0, 2.0);
+//! let algorithm = AlgorithmBox::new(ConvergeLocality);
 //! let config = SimConfig {
+//!     stop: StopSpec { criterion: algorithm.default_stop(), max_rounds: 10_000 },
 //!     algorithm,
+//!     model: ModelParams::new(1.0, 2.0),
 //!     vision: VisionParams::for_step(1.0),
 //!     backend: SightBackend::Index,
 //!     scheduler: SchedulerSpec::Fsync,
-//!     stop: StopSpec { criterion: StopCriterion::default_for(algorithm.kind), max_rounds: 10_000 },
 //!     seed: 7,
 //!     movement: MovementErrors::NONE,
 //!     faults: None,
@@ -30,6 +32,7 @@
 //! assert_eq!(outcome.hull_growth_rounds, 0); // Lemma 2
 //! ```
 
+pub mod algorithm;
 pub mod asynchrony;
 pub mod components;
 mod error;
@@ -41,11 +44,12 @@ mod simulation;
 mod stop;
 pub mod systems;
 
+pub use algorithm::AlgorithmBox;
 pub use asynchrony::{AsyncSpec, AsyncStart, TickDist};
 pub use error::{EngineError, MAX_MAGNITUDE, MAX_ROBOTS};
 pub use faults::{ByzantineRule, CrashAt, FaultCount, FaultKind, FaultPlan, FaultSpec, Role};
 pub use index::{IndexPoint, IndexedSight, SegmentGrid, SpaceIndex, SpatialIndex, Tube};
-pub use resources::SightBackend;
+pub use resources::{RunFailure, SightBackend};
 pub use scheduler::{ActivationError, ActivationList, Objective, SchedulerSpec, SequentialOrder};
 pub use simulation::{Activity, RobotView, RoundReport, RunOutcome, SimConfig, Simulation};
 pub use stop::{StopCriterion, StopSpec};
@@ -54,7 +58,7 @@ pub use systems::RoundSet;
 /// The most used items.
 pub mod prelude {
     pub use crate::{
-        AsyncSpec, AsyncStart, IndexedSight, RunOutcome, SchedulerSpec, SequentialOrder,
-        SightBackend, SimConfig, Simulation, StopCriterion, StopSpec, TickDist,
+        AlgorithmBox, AsyncSpec, AsyncStart, IndexedSight, RunOutcome, SchedulerSpec,
+        SequentialOrder, SightBackend, SimConfig, Simulation, StopCriterion, StopSpec, TickDist,
     };
 }

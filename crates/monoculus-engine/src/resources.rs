@@ -1,7 +1,7 @@
 //! Resources: state shared by all robots of one simulation.
 
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::AlgorithmParams;
+use monoculus_core::algorithms::ModelParams;
 use monoculus_core::errors::MovementErrors;
 use monoculus_core::vision::{ExactSight, VisionParams};
 
@@ -25,8 +25,8 @@ pub enum SightBackend {
 /// The fixed parameters of a run.
 #[derive(Resource, Clone, Debug)]
 pub struct Params {
-    /// Algorithm, b, c.
-    pub algorithm: AlgorithmParams,
+    /// b, c, observation errors, target policy.
+    pub model: ModelParams,
     /// Visibility tolerances.
     pub vision: VisionParams,
     /// Visibility backend.
@@ -39,6 +39,53 @@ pub struct Params {
     pub movement: MovementErrors,
     /// Every robot's role, when some are faulty.
     pub faults: Option<std::sync::Arc<crate::FaultPlan>>,
+    /// The first bad decision of the run, if its algorithm made one.
+    pub failure: Failure,
+}
+
+/// Where a run's algorithm failed (a step along a direction that is not a unit vector, a
+/// panic): the robot, the round (ASYNC: the robot's cycle) and what happened. The run
+/// stops after the step in which it happened.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunFailure {
+    /// The round, or under ASYNC the robot's cycle (1-based).
+    pub round: u64,
+    /// The robot.
+    pub robot: usize,
+    /// What the algorithm did.
+    pub message: String,
+}
+
+impl std::fmt::Display for RunFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} (robot {}, round {})",
+            self.message, self.robot, self.round
+        )
+    }
+}
+
+/// The first [`RunFailure`] of a run, shared by the threads that decide: of failures in
+/// one step, the one of the lowest (round, robot), whatever the thread count.
+#[derive(Clone, Debug, Default)]
+pub struct Failure(std::sync::Arc<std::sync::Mutex<Option<RunFailure>>>);
+
+impl Failure {
+    /// Records a failure.
+    pub fn record(&self, failure: RunFailure) {
+        let mut f = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        if f.as_ref()
+            .is_none_or(|old| (failure.round, failure.robot) < (old.round, old.robot))
+        {
+            *f = Some(failure);
+        }
+    }
+
+    /// The failure, if any.
+    pub fn get(&self) -> Option<RunFailure> {
+        self.0.lock().unwrap_or_else(|p| p.into_inner()).clone()
+    }
 }
 
 impl Params {

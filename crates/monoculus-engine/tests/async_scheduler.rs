@@ -267,8 +267,8 @@ fn watching_a_run_tick_by_tick_does_not_change_it() {
                 let views = s.robot_views();
                 assert_eq!(views.len(), 30);
                 assert_eq!(s.positions_now().len(), 30);
-                let has_memory = kind.has_memory();
-                assert!(views.iter().all(|v| v.memory.is_some() == has_memory));
+                let has_bits = kind == AlgorithmKind::ConvergeQuadrantTermination;
+                assert!(views.iter().all(|v| v.bits.is_some() == has_bits));
             });
             assert_eq!(watched, plain, "{scheduler:?} {kind:?}");
             match scheduler {

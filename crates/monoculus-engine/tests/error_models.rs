@@ -17,7 +17,7 @@ fn zero_errors_change_nothing() {
     for kind in AlgorithmKind::ALL {
         let cfg = common::config(kind, SchedulerSpec::Fsync, 1);
         let mut with = cfg.clone();
-        with.algorithm.errors = ObservationErrors {
+        with.model.errors = ObservationErrors {
             flip_p: 0.0,
             flip_window: 0.3,
             angle_sigma: 0.0,
@@ -35,7 +35,7 @@ fn angular_noise_changes_runs_but_converge_locality_still_converges() {
     for seed in 0..6 {
         let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, seed);
         let exact = run(cfg.clone(), seed);
-        cfg.algorithm.errors.angle_sigma = 0.05;
+        cfg.model.errors.angle_sigma = 0.05;
         let noisy = run(cfg.clone(), seed);
         assert_ne!(exact, noisy);
         assert!(noisy.converged, "{noisy:?}");
@@ -47,7 +47,7 @@ fn angular_noise_changes_runs_but_converge_locality_still_converges() {
 fn noisy_quadrant_robots_still_gather() {
     for seed in 0..6 {
         let mut cfg = common::config(AlgorithmKind::ConvergeQuadrant, SchedulerSpec::Fsync, seed);
-        cfg.algorithm.errors.angle_sigma = 0.02;
+        cfg.model.errors.angle_sigma = 0.02;
         let out = run(cfg.clone(), seed);
         assert!(out.converged, "{out:?}");
         assert_ne!(
@@ -64,7 +64,7 @@ fn noisy_quadrant_robots_still_gather() {
 fn far_bit_flips_change_choices() {
     let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 2);
     let exact = run(cfg.clone(), 2);
-    cfg.algorithm.errors = ObservationErrors {
+    cfg.model.errors = ObservationErrors {
         flip_p: 0.5,
         flip_window: 0.5,
         angle_sigma: 0.0,
@@ -119,7 +119,7 @@ fn errors_under_async_are_deterministic_across_threads() {
                     motion: TickDist::Exponential { mean: 3.0 },
                     start: AsyncStart::Random,
                 });
-                cfg.algorithm.errors = ObservationErrors {
+                cfg.model.errors = ObservationErrors {
                     flip_p: 0.2,
                     flip_window: 0.2,
                     angle_sigma: 0.03,

@@ -37,7 +37,7 @@ fn indexed_and_exact_backends_give_identical_runs() {
 fn backends_agree_with_the_listing_reference() {
     for (name, pts) in common::zoo(2) {
         let mut cfg = common::config(AlgorithmKind::ConvergeLocality, SchedulerSpec::Fsync, 5);
-        cfg.algorithm.target = TargetPolicy::RandomListing;
+        cfg.model.target = TargetPolicy::RandomListing;
         cfg.stop.max_rounds = 60;
         assert_backends_agree(&cfg, SightBackend::Exact, &pts, name);
     }

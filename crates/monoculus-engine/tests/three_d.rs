@@ -153,14 +153,14 @@ fn space_runs_under_async_and_match_the_exact_backend() {
 
 #[test]
 fn termination_memory_has_six_bits_in_space() {
-    use monoculus_core::algorithms::RobotMemory;
-    let mut m = RobotMemory::new(AxisFrame::identity(3));
+    use monoculus_core::algorithms::TerminationBits;
+    let mut m = TerminationBits::default();
     for k in 0..3 {
         for side in monoculus_core::observe::Side::BOTH {
-            assert!(!m.terminated());
+            assert!(!m.terminated(3));
             m.set(k, side);
         }
     }
-    assert!(m.terminated());
-    assert_eq!(m.bits, 0b11_1111);
+    assert!(m.terminated(3));
+    assert_eq!(m.0, 0b11_1111);
 }

@@ -6,6 +6,7 @@ pub mod config;
 pub mod limits;
 pub mod output;
 pub mod positions;
+pub mod registry;
 pub mod replay;
 pub mod results;
 pub mod runner;
@@ -13,6 +14,7 @@ pub mod schedule;
 pub mod shard;
 
 pub use config::{Cell, ConfigError, Experiment, RunId};
+pub use registry::Registry;
 
 /// The most characters of a value that a message quotes.
 pub const MAX_QUOTED: usize = 100;

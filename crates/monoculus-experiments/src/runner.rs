@@ -38,6 +38,11 @@ pub struct SweepReport {
     pub skipped: usize,
     /// Runs done now.
     pub ran: usize,
+    /// Runs whose algorithm failed (recorded in `failures.csv`, not in the rows): each
+    /// with its cell's key and seed, and what happened.
+    pub failed: Vec<(String, u64, String)>,
+    /// Where the failures were recorded.
+    pub failures_path: PathBuf,
 }
 
 /// Why a sweep failed.
@@ -193,6 +198,7 @@ pub fn run_experiment(
     let skipped = total - pending.len();
     let finished = AtomicUsize::new(0);
     let failure: Mutex<Option<SweepError>> = Mutex::new(None);
+    let failed: Mutex<Vec<(RunId, String)>> = Mutex::new(Vec::new());
     progress.runs(0, pending.len());
     pending.par_iter().with_max_len(1).for_each(|run| {
         if failure.lock().map(|f| f.is_some()).unwrap_or(true) {
@@ -205,8 +211,17 @@ pub fn run_experiment(
                 seed: run.seed,
                 cause,
             })
-            .and_then(|(outcome, ms)| {
-                Ok(results.append(&run_row(exp, cell, run.seed, &outcome, ms))?)
+            .and_then(|(outcome, ms)| match &outcome.failure {
+                // The algorithm failed: the run is recorded as such, the sweep goes on.
+                Some(f) => {
+                    results.fail(cell, run.seed, f)?;
+                    failed
+                        .lock()
+                        .unwrap_or_else(|p| p.into_inner())
+                        .push((*run, f.to_string()));
+                    Ok(())
+                }
+                None => Ok(results.append(&run_row(exp, cell, run.seed, &outcome, ms))?),
             });
         if let Err(e) = result {
             let mut f = failure.lock().unwrap_or_else(|p| p.into_inner());
@@ -220,11 +235,18 @@ pub fn run_experiment(
         return Err(e);
     }
     results.finish(exp)?;
+    let mut failed = failed.into_inner().unwrap_or_else(|p| p.into_inner());
+    failed.sort_by_key(|(r, _)| (r.cell, r.seed));
     Ok(SweepReport {
         rows_path: results.rows_path().to_path_buf(),
         dropped_duplicates: results.dropped_duplicates,
         total,
         skipped,
-        ran: pending.len(),
+        ran: pending.len() - failed.len(),
+        failed: failed
+            .into_iter()
+            .map(|(r, m)| (exp.cells[r.cell].key.clone(), r.seed, m))
+            .collect(),
+        failures_path: results.failures_path().to_path_buf(),
     })
 }

@@ -181,7 +181,13 @@ fn mutated_configs_parse_or_fail_in_one_line() {
             Vec::new()
         };
         let got = catch_unwind(AssertUnwindSafe(|| {
-            Experiment::parse(&input, "c.toml", base, &sets)
+            Experiment::parse(
+                &input,
+                "c.toml",
+                base,
+                &sets,
+                &monoculus_experiments::Registry::builtin(),
+            )
         }));
         match got {
             Err(_) => panic!("parse panicked on:\n{input}\nwith --set {sets:?}"),
@@ -208,7 +214,14 @@ fn mutated_positions_parse_or_fail_in_one_line() {
 fn mutated_result_files_read_or_fail_in_one_line() {
     let tmp = tempfile::tempdir().unwrap();
     let text = "name = \"f\"\nseeds = 3\n[swarm]\nn = [4, 6]\ninit = \"square\"\nside = 4.0\n[algorithm]\nname = \"converge_locality\"\n";
-    let exp = Experiment::parse(text, "f.toml", tmp.path(), &[]).unwrap();
+    let exp = Experiment::parse(
+        text,
+        "f.toml",
+        tmp.path(),
+        &[],
+        &monoculus_experiments::Registry::builtin(),
+    )
+    .unwrap();
     let out = tmp.path().join("o");
     monoculus_experiments::run_experiment(&exp, &out, Default::default(), &()).unwrap();
     let runs = std::fs::read_to_string(out.join("runs.csv")).unwrap();

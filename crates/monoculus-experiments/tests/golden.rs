@@ -134,7 +134,14 @@ fn outcomes_are_bit_identical_to_the_checked_in_ones() {
     let tmp = tempfile::tempdir().unwrap();
     let mut got = BTreeMap::new();
     for (name, text) in SWEEPS {
-        let exp = Experiment::parse(text, name, tmp.path(), &[]).unwrap();
+        let exp = Experiment::parse(
+            text,
+            name,
+            tmp.path(),
+            &[],
+            &monoculus_experiments::Registry::builtin(),
+        )
+        .unwrap();
         let out = tmp.path().join(name);
         run_experiment(&exp, &out, Default::default(), &()).unwrap();
         let (hash, rows) = outcome_hash(&out.join("runs.csv"));

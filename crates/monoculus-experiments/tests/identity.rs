@@ -48,7 +48,12 @@ fn every_config_gives_the_results_of_0_2_0() {
             .join("configs")
             .join(dir)
             .join(format!("{config}.toml"));
-        let exp = Experiment::load(&path, &["seeds=4".to_string()]).unwrap();
+        let exp = Experiment::load(
+            &path,
+            &["seeds=4".to_string()],
+            &monoculus_experiments::Registry::builtin(),
+        )
+        .unwrap();
         let out = tmp.path().join(&name);
         run_experiment(&exp, &out, Default::default(), &()).unwrap();
         let (got, want) = (rows(&out.join("runs.csv")), rows(&refs.join(&name)));

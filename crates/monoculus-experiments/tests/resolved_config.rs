@@ -25,11 +25,20 @@ fn every_bundled_config_reads_back_as_itself() {
     configs(&root, &mut all);
     assert!(all.len() >= 10, "{all:?}");
     for path in all {
-        let exp = Experiment::load(&path, &[]).unwrap();
-        let resolved = Experiment::parse(&exp.resolved, "config.toml", &exp.base, &[])
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let exp =
+            Experiment::load(&path, &[], &monoculus_experiments::Registry::builtin()).unwrap();
+        let resolved = Experiment::parse(
+            &exp.resolved,
+            "config.toml",
+            &exp.base,
+            &[],
+            &monoculus_experiments::Registry::builtin(),
+        )
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         assert_eq!(resolved.resolved, exp.resolved, "{}", path.display());
-        let again = Provenance::new(&exp).experiment("record").unwrap();
+        let again = Provenance::new(&exp)
+            .experiment("record", &monoculus_experiments::Registry::builtin())
+            .unwrap();
         assert_eq!(again.resolved, exp.resolved, "{}", path.display());
         assert_eq!(again.hash, exp.hash);
         let keys = |e: &Experiment| e.cells.iter().map(|c| c.key.clone()).collect::<Vec<_>>();

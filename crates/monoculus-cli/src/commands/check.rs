@@ -8,8 +8,8 @@ pub struct CheckArgs {
     config: ConfigArgs,
 }
 
-pub fn check(args: CheckArgs) -> Result<(), Failure> {
-    let exp = args.config.load()?;
+pub fn check(args: CheckArgs, registry: &monoculus_experiments::Registry) -> Result<(), Failure> {
+    let exp = args.config.load(registry)?;
     let runs = exp.cells.len() * exp.seeds.len();
     outln!(
         "{}: {} cells x {} seeds = {} runs",

@@ -82,7 +82,7 @@ fn merge_stress_csv(args: &MergeArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-pub fn merge(args: MergeArgs) -> Result<(), Failure> {
+pub fn merge(args: MergeArgs, registry: &monoculus_experiments::Registry) -> Result<(), Failure> {
     if !args.dir.is_dir() && args.dir.extension().is_some_and(|e| e == "csv") {
         return merge_stress_csv(&args);
     }
@@ -92,7 +92,7 @@ pub fn merge(args: MergeArgs) -> Result<(), Failure> {
             args.dir.display()
         )));
     }
-    let report = merge_shards(&args.dir, args.partial, job_id(&env_var))?;
+    let report = merge_shards(&args.dir, args.partial, job_id(&env_var), registry)?;
     let exp = &report.experiment;
     for (file, line) in &report.cut_lines {
         eprintln!(

@@ -33,7 +33,7 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand};
 use monoculus_experiments::output::{OutputError, Paths};
 use monoculus_experiments::results::ResultsError;
-use monoculus_experiments::{ConfigError, Experiment, SweepError};
+use monoculus_experiments::{ConfigError, Experiment, Registry, SweepError};
 
 /// monoculus: a simulator for swarms of monoculus robots (robots that cannot measure
 /// distances), after Pattanayak, Mondal, Mandal and Schmid.
@@ -163,9 +163,10 @@ impl ConfigArgs {
         paths
     }
 
-    /// Loads the experiment, printing its warnings.
-    pub fn load(&self) -> Result<Experiment, Failure> {
-        let exp = Experiment::load(&self.config, &self.set)?;
+    /// Loads the experiment (its algorithms resolved through `registry`), printing its
+    /// warnings.
+    pub fn load(&self, registry: &Registry) -> Result<Experiment, Failure> {
+        let exp = Experiment::load(&self.config, &self.set, registry)?;
         for w in &exp.warnings {
             eprintln!("warning: {w}");
         }
@@ -224,23 +225,23 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure>
 }
 
 /// Runs a subcommand, then flushes standard output.
-pub fn dispatch(cli: Cli) -> Result<(), Failure> {
-    run_command(cli)?;
+pub fn dispatch(cli: Cli, registry: &Registry) -> Result<(), Failure> {
+    run_command(cli, registry)?;
     std::io::Write::flush(&mut std::io::stdout()).map_err(Failure::Stdout)
 }
 
-fn run_command(cli: Cli) -> Result<(), Failure> {
+fn run_command(cli: Cli, registry: &Registry) -> Result<(), Failure> {
     match cli.command {
-        Command::Run(a) => run::run(a),
-        Command::Check(a) => check::check(a),
-        Command::Trace(a) => trace::trace(a),
+        Command::Run(a) => run::run(a, registry),
+        Command::Check(a) => check::check(a, registry),
+        Command::Trace(a) => trace::trace(a, registry),
         Command::Look(a) => look::look(a),
         Command::Impossibility(a) => impossibility::impossibility(a),
         Command::Table(a) => table::table(a),
         Command::Plot(a) => plot::plot(a),
-        Command::Stress(a) => stress::stress(a),
-        Command::Merge(a) => merge::merge(a),
-        Command::Replay(a) => replay::replay(a),
-        Command::Slurm(a) => slurm::slurm(a),
+        Command::Stress(a) => stress::stress(a, registry),
+        Command::Merge(a) => merge::merge(a, registry),
+        Command::Replay(a) => replay::replay(a, registry),
+        Command::Slurm(a) => slurm::slurm(a, registry),
     }
 }

@@ -70,7 +70,7 @@ fn is_dir(path: &Path) -> bool {
         || path.is_dir()
 }
 
-pub fn replay(args: ReplayArgs) -> Result<(), Failure> {
+pub fn replay(args: ReplayArgs, registry: &monoculus_experiments::Registry) -> Result<(), Failure> {
     if args.out.is_none() && args.gif.is_none() {
         return Err(Failure::Input(
             "replay: give --out FILE.html, --gif FILE.gif, or both".into(),
@@ -114,7 +114,7 @@ pub fn replay(args: ReplayArgs) -> Result<(), Failure> {
         config: args.source.clone(),
         set: args.set.clone(),
     };
-    let exp = config.load()?;
+    let exp = config.load(registry)?;
     let seed = args.seed.unwrap_or(exp.seeds[0]);
     let folders = [&args.out, &args.gif]
         .into_iter()

@@ -130,8 +130,8 @@ pub fn parse_shard(s: &str) -> Result<Shard, Failure> {
     }
 }
 
-pub fn run(args: RunArgs) -> Result<(), Failure> {
-    let exp = args.config.load()?;
+pub fn run(args: RunArgs, registry: &monoculus_experiments::Registry) -> Result<(), Failure> {
+    let exp = args.config.load(registry)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     let out = args
         .out
@@ -176,6 +176,7 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
             report.dropped_duplicates
         );
     }
+    let failed = &report.failed;
     match shard {
         None => {
             outln!(
@@ -195,6 +196,16 @@ pub fn run(args: RunArgs) -> Result<(), Failure> {
             report.rows_path.display(),
             out.display()
         ),
+    }
+    if let Some((cell, seed, message)) = failed.first() {
+        let cell = if cell.is_empty() { "-" } else { cell };
+        return Err(Failure::Other(anyhow::anyhow!(
+            "{} of {} runs failed (recorded in {}, not in the results; the others are): cell {cell}, seed {seed}: {}",
+            failed.len(),
+            report.total,
+            report.failures_path.display(),
+            monoculus_experiments::one_line(message)
+        )));
     }
     Ok(())
 }

@@ -202,7 +202,7 @@ fn sbatch(args: &[&str]) -> Result<String, Failure> {
         .ok_or_else(|| Failure::Other(anyhow::anyhow!("sbatch printed no job id: {text}")))
 }
 
-pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
+pub fn slurm(args: SlurmArgs, registry: &monoculus_experiments::Registry) -> Result<(), Failure> {
     if args.shards == 0 || args.shards > monoculus_experiments::shard::MAX_SHARDS {
         return Err(Failure::Input(format!(
             "--shards {}: expected 1 to {}",
@@ -288,7 +288,7 @@ pub fn slurm(args: SlurmArgs) -> Result<(), Failure> {
             config: config.clone(),
             set: args.set.clone(),
         };
-        let exp = config_args.load()?;
+        let exp = config_args.load(registry)?;
         inputs = config_args.paths(&exp);
         let existing = out.join("config.toml");
         if let Ok(old) = std::fs::read_to_string(&existing)

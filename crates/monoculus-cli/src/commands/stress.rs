@@ -2,11 +2,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use glam::DVec2;
-use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::init::{InitShape, generate};
+use monoculus_engine::AlgorithmBox;
 use monoculus_engine::{
     AsyncSpec, AsyncStart, SchedulerSpec, SightBackend, SimConfig, Simulation, TickDist,
 };
+use monoculus_experiments::Registry;
 use monoculus_experiments::results::{
     Attempt, GIT_COMMIT, StressLog, StressRow, VERSION, host_name, quantile, stress_shard_path,
 };
@@ -151,7 +152,7 @@ struct Plan {
 
 /// Times FSYNC rounds of one algorithm on a swarm of density 1 and reports the engine's
 /// throughput; for each measurement the last line is `activations_per_s=<number>`.
-pub fn stress(args: StressArgs) -> Result<(), Failure> {
+pub fn stress(args: StressArgs, registry: &Registry) -> Result<(), Failure> {
     if args.n.contains(&0) || args.rounds == 0 {
         return Err(Failure::Input("--n and --rounds must be at least 1".into()));
     }
@@ -159,17 +160,24 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
         monoculus_experiments::limits::check_robots(n as u64)
             .map_err(|m| Failure::Input(format!("--n {n}: {m}")))?;
     }
-    let kind = AlgorithmKind::ALL
-        .into_iter()
-        .find(|k| k.name() == args.algorithm)
+    // The algorithm with its default parameters.
+    let kind = registry
+        .get(&args.algorithm)
         .ok_or_else(|| {
-            let names: Vec<&str> = AlgorithmKind::ALL.iter().map(|k| k.name()).collect();
             Failure::Input(format!(
                 "--algorithm {}: expected one of {}",
-                args.algorithm,
-                names.join(", ")
+                monoculus_experiments::shown(&args.algorithm),
+                registry.names().join(", ")
             ))
-        })?;
+        })?
+        .make(&toml::Table::new())
+        .map_err(|e| {
+            Failure::Input(format!(
+                "--algorithm {}: its parameters have no defaults: {} {}",
+                args.algorithm, e.key, e.message
+            ))
+        })?
+        .0;
     let threads: Vec<Option<usize>> = if args.threads.is_empty() {
         vec![threads_wanted(None)?]
     } else {
@@ -256,7 +264,7 @@ pub fn stress(args: StressArgs) -> Result<(), Failure> {
             continue;
         }
         reset_peak_rss();
-        measure(kind, args.init, args.backend, timing, &pool, &mut row)?;
+        measure(&kind, args.init, args.backend, timing, &pool, &mut row)?;
         if let Some(l) = &log {
             l.append(&row)?;
         }
@@ -308,7 +316,7 @@ fn timing_label(t: &AsyncSpec) -> String {
 
 /// Builds the swarm and times the rounds (ASYNC: epochs), filling `row`'s figures.
 fn measure(
-    kind: AlgorithmKind,
+    kind: &AlgorithmBox,
     init: Shape,
     backend: Backend,
     timing: Option<AsyncSpec>,
@@ -324,7 +332,7 @@ fn measure(
     let start: Vec<DVec2> = generate(&shape, row.n, row.seed);
     // The cap is the rounds measured: stress steps them itself, and ASYNC checks
     // that its clock cannot overflow within the cap.
-    let mut config = SimConfig::paper(kind, row.seed, row.rounds.max(1));
+    let mut config = SimConfig::paper(kind.clone(), row.seed, row.rounds.max(1));
     config.backend = backend.engine();
     if let Some(t) = timing {
         config.scheduler = SchedulerSpec::Async(t);

@@ -42,8 +42,8 @@ pub struct TraceArgs {
     threads: Option<usize>,
 }
 
-pub fn trace(args: TraceArgs) -> Result<(), Failure> {
-    let exp = args.config.load()?;
+pub fn trace(args: TraceArgs, registry: &monoculus_experiments::Registry) -> Result<(), Failure> {
+    let exp = args.config.load(registry)?;
     let cell = pick_cell(&exp, args.cell, &args.config.config)?;
     if args.schedule.is_some() && cell.spec.scheduler.kind == SchedulerKind::Async {
         return Err(Failure::Input(
@@ -65,6 +65,12 @@ pub fn trace(args: TraceArgs) -> Result<(), Failure> {
         3 => trace_in::<DVec3>(cell, &args),
         _ => trace_in::<DVec2>(cell, &args),
     })?;
+    if let Some(f) = &outcome.failure {
+        return Err(Failure::Other(anyhow::anyhow!(
+            "the run failed: {f}; {} holds its rounds before the failure",
+            args.out.display()
+        )));
+    }
     outln!(
         "rounds={} converged={} moves={} final_diameter={} hull_growth_rounds={}",
         outcome.rounds,

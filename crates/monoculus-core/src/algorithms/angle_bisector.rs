@@ -1,26 +1,46 @@
 //! The naive "angle bisector" strategy of the paper's Figure 1 (SPEC 4.4).
 
-use super::Decision;
-use super::median::boundary_fan;
+use super::median::{ANGULAR_ORDER, boundary_fan};
+use super::{Algorithm, Decision, Ld, NoParams, Observation, StopCriterion};
 use crate::geometry::Point;
-use crate::observe::LdObservation;
-use crate::vision::Sight;
+use crate::rng::Stream;
 
-/// A boundary robot moves b along the bisector of the angle spanned by its visible
-/// points; others stay. Planar.
-pub fn decide<P: Point, S: Sight<P> + ?Sized>(obs: &LdObservation<'_, P, S>) -> Decision<P> {
-    let dirs: Vec<P> = obs.all().into_iter().map(|s| s.direction).collect();
-    let Some(fan) = boundary_fan(&dirs) else {
-        return Decision::Stay;
-    };
-    let first = fan[0].0;
-    let mut span = fan[fan.len() - 1].0 - first;
-    if span < 0.0 {
-        span += std::f64::consts::TAU;
+/// The naive "angle bisector" strategy of the paper's Figure 1 (SPEC 4.4): a boundary
+/// robot moves b along the bisector of the angle spanned by its visible points; others
+/// stay. Planar. It can grow the hull.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AngleBisector;
+
+impl Algorithm for AngleBisector {
+    const NAME: &'static str = "angle_bisector";
+    type Sensing = Ld;
+    type Params = NoParams;
+    type State = ();
+    const STOP: StopCriterion = StopCriterion::Diameter;
+    const PLANE_ONLY: Option<&'static str> = Some(ANGULAR_ORDER);
+
+    fn new(_: NoParams) -> Result<Self, String> {
+        Ok(AngleBisector)
     }
-    let mid = first + span / 2.0;
-    let mut c = [0.0; crate::geometry::MAX_DIM];
-    c[0] = mid.cos();
-    c[1] = mid.sin();
-    Decision::Step(P::from_slice(&c))
+
+    fn decide<V: Point>(
+        &self,
+        obs: &Observation<'_, Ld, V>,
+        _: &mut (),
+        _: &mut Stream,
+    ) -> Decision<V> {
+        let Some(fan) = boundary_fan(&obs.directions()) else {
+            return Decision::Stay;
+        };
+        let first = fan[0].0;
+        let mut span = fan[fan.len() - 1].0 - first;
+        if span < 0.0 {
+            span += std::f64::consts::TAU;
+        }
+        let mid = first + span / 2.0;
+        let mut c = [0.0; crate::geometry::MAX_DIM];
+        c[0] = mid.cos();
+        c[1] = mid.sin();
+        Decision::Step(V::from_slice(&c))
+    }
 }

@@ -1,9 +1,12 @@
 //! The naive "median" strategy of the paper's Figure 1 (SPEC 4.4).
 
-use super::Decision;
+use super::{Algorithm, Decision, Ld, NoParams, Observation, StopCriterion};
 use crate::geometry::Point;
-use crate::observe::LdObservation;
-use crate::vision::Sight;
+use crate::rng::Stream;
+
+/// Why the naive strategies need the plane.
+pub(crate) const ANGULAR_ORDER: &str =
+    "is defined by angular order in the plane (the paper's Figure 1)";
 
 /// Directions of the visible points in angular order, starting just after the widest
 /// angular gap, when that gap is at least pi (the robot is a boundary robot: all
@@ -38,12 +41,33 @@ pub(crate) fn boundary_fan<P: Point>(dirs: &[P]) -> Option<Vec<(f64, P)>> {
     Some(fan)
 }
 
-/// A boundary robot moves b toward the median visible point in angular order (the
-/// lower median for an even count, in the robot's own chirality); others stay.
-pub fn decide<P: Point, S: Sight<P> + ?Sized>(obs: &LdObservation<'_, P, S>) -> Decision<P> {
-    let dirs: Vec<P> = obs.all().into_iter().map(|s| s.direction).collect();
-    match boundary_fan(&dirs) {
-        Some(fan) => Decision::Step(fan[(fan.len() - 1) / 2].1),
-        None => Decision::Stay,
+/// The naive "median" strategy of the paper's Figure 1 (SPEC 4.4): a boundary robot
+/// moves b toward the median visible point in angular order (the lower median for an
+/// even count, in the robot's own chirality); others stay. It can grow the hull.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Median;
+
+impl Algorithm for Median {
+    const NAME: &'static str = "median";
+    type Sensing = Ld;
+    type Params = NoParams;
+    type State = ();
+    const STOP: StopCriterion = StopCriterion::Diameter;
+    const PLANE_ONLY: Option<&'static str> = Some(ANGULAR_ORDER);
+
+    fn new(_: NoParams) -> Result<Self, String> {
+        Ok(Median)
+    }
+
+    fn decide<V: Point>(
+        &self,
+        obs: &Observation<'_, Ld, V>,
+        _: &mut (),
+        _: &mut Stream,
+    ) -> Decision<V> {
+        match boundary_fan(&obs.directions()) {
+            Some(fan) => Decision::Step(fan[(fan.len() - 1) / 2].1),
+            None => Decision::Stay,
+        }
     }
 }

@@ -1,22 +1,36 @@
-//! The algorithms of SPEC section 4 and the one entry point the engine calls,
-//! [`activate`]: draw the robot's frame, build its observation, run the algorithm,
-//! map the decision back to the global frame.
+//! Algorithms: the [`Algorithm`] trait that every algorithm implements (the paper's six
+//! below, and a user's in their own crate), what a robot senses in each model
+//! ([`Observation`]), and [`activate`], the one entry point the engine calls: draw the
+//! robot's frame, build its observation, run the algorithm, check the decision and map
+//! it back to the global frame.
 
+mod algorithm;
 mod angle_bisector;
 mod center_of_gravity;
 mod converge_locality;
 mod converge_quadrant;
 mod median;
-mod memory;
+mod observation;
 mod termination;
+mod termination_bits;
 
-pub use memory::RobotMemory;
+pub use algorithm::{Algorithm, NoParams, StopCriterion};
+pub use angle_bisector::AngleBisector;
+pub use center_of_gravity::CenterOfGravity;
+pub use converge_locality::ConvergeLocality;
+pub use converge_quadrant::{ConvergeQuadrant, along, empty_sides};
+pub use median::Median;
+pub use observation::{
+    Directions, Kept, Ld, LocalFrame, Model, Observation, Ola, Positions, Sensing,
+};
+pub use termination::ConvergeQuadrantTermination;
+pub use termination_bits::TerminationBits;
 
 use crate::errors::{ObservationErrors, Perception};
-use crate::geometry::{AxisFrame, Point};
-use crate::observe::{LdObservation, OlaObservation, PositionObservation};
+use crate::geometry::Point;
 use crate::rng::Stream;
 use crate::vision::Sight;
+use observation::Looker;
 
 /// What an algorithm decides, in the robot's local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,42 +39,32 @@ pub enum Decision<P> {
     Stay,
     /// Move exactly the step length b along this unit direction (a rigid move).
     Step(P),
-    /// Move along this unit direction by min(b, the given distance) (baselines that
-    /// know distances).
+    /// Move along this unit direction by min(b, the given distance): for algorithms
+    /// that sense [`Positions`] (the others know no distance).
     StepAtMost(P, f64),
 }
 
-/// The algorithms (config `algorithm.name`, in snake case as [`AlgorithmKind::name`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
+/// The paper's algorithms, by name: a convenience for choosing one of them in code
+/// (`AlgorithmKind::ConvergeLocality.name()`, or as an engine's algorithm). The engine
+/// knows none of them: each is an [`Algorithm`] like any other.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AlgorithmKind {
-    /// ConvergeLocality (LD), SPEC 4.1.
+    /// [`ConvergeLocality`] (LD), SPEC 4.1.
     ConvergeLocality,
-    /// ConvergeQuadrant (OLA), SPEC 4.2.
+    /// [`ConvergeQuadrant`] (OLA), SPEC 4.2.
     ConvergeQuadrant,
-    /// ConvergeQuadrantTermination (OLA + 2 bits per axis), SPEC 4.3.
+    /// [`ConvergeQuadrantTermination`] (OLA + 2 bits per axis), SPEC 4.3.
     ConvergeQuadrantTermination,
-    /// Move toward the centroid of the visible points (sees positions), SPEC 4.4.
+    /// [`CenterOfGravity`] (sees positions), SPEC 4.4.
     CenterOfGravity,
-    /// Boundary robots move toward the median visible point, SPEC 4.4.
+    /// [`Median`], SPEC 4.4.
     Median,
-    /// Boundary robots move along the bisector of their visible angle, SPEC 4.4.
+    /// [`AngleBisector`], SPEC 4.4.
     AngleBisector,
 }
 
-/// The sensing model an algorithm runs in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Model {
-    /// Locality Detection: directions and far bits.
-    Ld,
-    /// Orthogonal Line Agreement: directions in agreed axes.
-    Ola,
-    /// Positions of visible robots (baselines).
-    Positions,
-}
-
 impl AlgorithmKind {
-    /// Every algorithm.
+    /// Every one of them.
     pub const ALL: [AlgorithmKind; 6] = [
         AlgorithmKind::ConvergeLocality,
         AlgorithmKind::ConvergeQuadrant,
@@ -70,44 +74,16 @@ impl AlgorithmKind {
         AlgorithmKind::AngleBisector,
     ];
 
-    /// The config name.
+    /// The config name ([`Algorithm::NAME`]).
     pub fn name(self) -> &'static str {
         match self {
-            AlgorithmKind::ConvergeLocality => "converge_locality",
-            AlgorithmKind::ConvergeQuadrant => "converge_quadrant",
-            AlgorithmKind::ConvergeQuadrantTermination => "converge_quadrant_termination",
-            AlgorithmKind::CenterOfGravity => "center_of_gravity",
-            AlgorithmKind::Median => "median",
-            AlgorithmKind::AngleBisector => "angle_bisector",
+            AlgorithmKind::ConvergeLocality => ConvergeLocality::NAME,
+            AlgorithmKind::ConvergeQuadrant => ConvergeQuadrant::NAME,
+            AlgorithmKind::ConvergeQuadrantTermination => ConvergeQuadrantTermination::NAME,
+            AlgorithmKind::CenterOfGravity => CenterOfGravity::NAME,
+            AlgorithmKind::Median => Median::NAME,
+            AlgorithmKind::AngleBisector => AngleBisector::NAME,
         }
-    }
-
-    /// The sensing model.
-    pub fn model(self) -> Model {
-        match self {
-            AlgorithmKind::ConvergeLocality
-            | AlgorithmKind::Median
-            | AlgorithmKind::AngleBisector => Model::Ld,
-            AlgorithmKind::ConvergeQuadrant | AlgorithmKind::ConvergeQuadrantTermination => {
-                Model::Ola
-            }
-            AlgorithmKind::CenterOfGravity => Model::Positions,
-        }
-    }
-
-    /// Whether robots keep state between activations (the termination bits).
-    pub fn has_memory(self) -> bool {
-        self == AlgorithmKind::ConvergeQuadrantTermination
-    }
-
-    /// Whether the paper's guarantees assume c >= 2b for this algorithm.
-    pub fn needs_locality_at_least_twice_step(self) -> bool {
-        matches!(
-            self,
-            AlgorithmKind::ConvergeLocality
-                | AlgorithmKind::ConvergeQuadrant
-                | AlgorithmKind::ConvergeQuadrantTermination
-        )
     }
 }
 
@@ -118,7 +94,7 @@ impl AlgorithmKind {
 #[serde(rename_all = "snake_case")]
 pub enum TargetPolicy {
     /// Draw robots uniformly until one is eligible and visible (32 draws, then 256 more
-    /// for ConvergeLocality); then draw among the robots that may be eligible (the
+    /// for the far points of LD); then draw among the robots that may be eligible (the
     /// robots farther than c, found by a range query) until one is eligible and visible,
     /// and list them all only after 32 more misses. The late rounds of a large
     /// ConvergeLocality run, where most robots see few far robots, then cost one line
@@ -134,11 +110,11 @@ pub enum TargetPolicy {
     RandomListing,
 }
 
-/// Parameters every activation needs.
+/// The constants of the model every activation needs, whatever the algorithm: the step
+/// length b, the locality constant c, the observation errors and how random choices
+/// draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AlgorithmParams {
-    /// Which algorithm.
-    pub kind: AlgorithmKind,
+pub struct ModelParams {
     /// Step length b.
     pub step: f64,
     /// Locality constant c.
@@ -149,11 +125,10 @@ pub struct AlgorithmParams {
     pub target: TargetPolicy,
 }
 
-impl AlgorithmParams {
-    /// Error-free parameters.
-    pub fn new(kind: AlgorithmKind, step: f64, locality: f64) -> Self {
-        AlgorithmParams {
-            kind,
+impl ModelParams {
+    /// Error-free constants with steps of `step` and locality `locality`.
+    pub fn new(step: f64, locality: f64) -> Self {
+        ModelParams {
             step,
             locality,
             errors: ObservationErrors::NONE,
@@ -162,118 +137,162 @@ impl AlgorithmParams {
     }
 }
 
-/// Whether an activation of `robot` is sure to decide Stay and leave its memory as it
-/// is, from the bounding box alone: an OLA robot (perceiving without errors) with robots
-/// beyond it on both sides of every axis is an inner robot: E is empty, no termination
-/// bit is set, and it sees at least two points (SPEC 4.2, 4.3). Its random stream is
-/// its own, so skipping the activation changes nothing else. Most robots of a
-/// ConvergeQuadrant run are inner robots.
-pub fn certainly_stays<P: Point, S: Sight<P> + ?Sized>(
-    params: &AlgorithmParams,
+/// Whether an activation of `robot` by `A` is sure to decide Stay and leave its state as
+/// it is, from the bounding box alone: `A` promises it
+/// ([`Algorithm::STAYS_WHEN_SURROUNDED`]) for an OLA robot with robots beyond it on both
+/// sides of every axis, and the robot perceives without errors, unlimited and through
+/// point robots (else the box says nothing of what it sees). Its random stream is its
+/// own, so skipping the activation changes nothing else. Most robots of a
+/// ConvergeQuadrant run are such inner robots.
+pub fn certainly_stays<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
+    params: &ModelParams,
     sight: &S,
     robot: usize,
 ) -> bool {
-    // With a limited range or fat robots the bounding box says nothing about what a
-    // robot sees.
-    let v = sight.vision();
-    if params.kind.model() != Model::Ola || params.errors.any() || v.limited() || v.fat() {
+    if !(A::STAYS_WHEN_SURROUNDED && <A::Sensing as Sensing>::MODEL == Model::Ola) {
         return false;
     }
-    let eps = sight.vision().eps_axis;
+    let v = sight.vision();
+    if params.errors.any() || v.limited() || v.fat() {
+        return false;
+    }
+    let eps = v.eps_axis;
     let p = sight.position(robot);
     let (lo, hi) = sight.bounds();
     // The tests of `OlaObservation::side_occupied`, for both sides of every axis.
     (0..P::DIM).all(|a| hi.axis(a) > p.axis(a) + eps && lo.axis(a) < p.axis(a) - eps)
 }
 
-/// One activation of robot `robot`: returns its global displacement, or `None` to stay.
-///
-/// `memory` is the robot's persistent state (termination algorithm only; `None` for
-/// the others). `stream` is the robot's random stream for this activation; its frame
-/// (for memoryless algorithms) is drawn from it first.
-pub fn activate<P: Point, S: Sight<P> + ?Sized>(
-    params: &AlgorithmParams,
-    sight: &S,
-    robot: usize,
-    memory: Option<&mut RobotMemory>,
-    stream: &mut Stream,
-) -> Option<P> {
-    let b = params.step;
-    match params.kind.model() {
-        Model::Ld | Model::Positions => {
-            let frame = P::random_frame(stream);
-            let perception = Perception::new(params.errors, stream);
-            let ld = || {
-                LdObservation::with_perception(sight, robot, frame, params.locality, perception)
-                    .with_target(params.target)
-            };
-            let decision = match params.kind {
-                AlgorithmKind::ConvergeLocality => converge_locality::decide(&ld(), stream),
-                AlgorithmKind::Median => median::decide(&ld()),
-                AlgorithmKind::AngleBisector => angle_bisector::decide(&ld()),
-                AlgorithmKind::CenterOfGravity => {
-                    center_of_gravity::decide(&PositionObservation::new(sight, robot, frame))
-                }
-                _ => unreachable!("model dispatch"),
-            };
-            to_global(decision, b, |v| P::to_global(&frame, v))
-        }
-        Model::Ola => {
-            let (frame, memory) = match memory {
-                Some(m) if params.kind.has_memory() => (m.frame, Some(m)),
-                _ => (AxisFrame::random(P::DIM, stream), None),
-            };
-            let obs = OlaObservation::with_perception(
-                sight,
-                robot,
-                frame,
-                Perception::new(params.errors, stream),
-            );
-            let decision = match (params.kind, memory) {
-                (AlgorithmKind::ConvergeQuadrant, _) => converge_quadrant::decide(&obs, stream),
-                (AlgorithmKind::ConvergeQuadrantTermination, Some(memory)) => {
-                    termination::decide(&obs, memory, stream)
-                }
-                (AlgorithmKind::ConvergeQuadrantTermination, None) => {
-                    panic!("the termination algorithm needs robot memory")
-                }
-                _ => unreachable!("model dispatch"),
-            };
-            to_global(decision, b, |v| obs.to_global(v))
-        }
+/// Whether `A` keeps a state (and its robots a frame) between activations.
+pub const fn keeps_state<A: Algorithm>() -> bool {
+    std::mem::size_of::<A::State>() != 0
+}
+
+/// A decision that breaks the model (a step along a direction that is not a unit vector
+/// or not finite, or a step bounded by a distance from an algorithm that senses none),
+/// or an algorithm that panicked.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{algorithm}: {problem}")]
+pub struct BadDecision {
+    /// The algorithm's name.
+    pub algorithm: &'static str,
+    /// What is wrong.
+    pub problem: String,
+}
+
+thread_local! {
+    static DECIDING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether this thread is inside an algorithm's [`Algorithm::decide`]: a panic hook can
+/// tell an algorithm's panic (which [`activate`] turns into a failed run) from a bug.
+pub fn in_algorithm() -> bool {
+    DECIDING.with(std::cell::Cell::get)
+}
+
+/// Marks this thread as deciding until dropped (also when `decide` unwinds).
+struct Deciding;
+
+impl Deciding {
+    fn start() -> Self {
+        DECIDING.with(|d| d.set(true));
+        Deciding
     }
 }
 
-fn to_global<P: Point>(decision: Decision<P>, step: f64, map: impl Fn(P) -> P) -> Option<P> {
+impl Drop for Deciding {
+    fn drop(&mut self) {
+        DECIDING.with(|d| d.set(false));
+    }
+}
+
+/// The message of a panic's payload.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".into())
+}
+
+/// How far from 1 a step's direction may be in length.
+pub const UNIT_TOLERANCE: f64 = 1e-6;
+
+/// One activation of robot `robot` by `algorithm`: its global displacement, or `None`
+/// to stay.
+///
+/// `kept` is the robot's frame and state when `A` keeps a state ([`keeps_state`]);
+/// otherwise `None`, and the frame is drawn from `stream` first (a rotation and
+/// chirality, or the agreed axes' order and orientation for [`Ola`]), then the
+/// perception's errors, then whatever the algorithm draws.
+pub fn activate<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
+    algorithm: &A,
+    params: &ModelParams,
+    sight: &S,
+    robot: usize,
+    kept: Option<&mut Kept<P, A::State>>,
+    stream: &mut Stream,
+) -> Result<Option<P>, BadDecision> {
+    let model = <A::Sensing as Sensing>::MODEL;
+    let mut fresh = A::State::default();
+    let (frame, state) = match kept {
+        Some(k) => (k.frame, &mut k.state),
+        None => (LocalFrame::draw(model, stream), &mut fresh),
+    };
+    let perception = Perception::new(params.errors, stream);
+    let looker = Looker::new(model, sight, robot, frame, params, perception);
+    let bad = |problem: String| BadDecision {
+        algorithm: A::NAME,
+        problem,
+    };
+    let decision = {
+        let _deciding = Deciding::start();
+        let obs = Observation::new(&looker);
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            algorithm.decide(&obs, state, stream)
+        }))
+        .map_err(|payload| bad(format!("panicked: {}", panic_message(&*payload))))?
+    };
+    let unit = |dir: P| {
+        let length = dir.length();
+        if (length - 1.0).abs() <= UNIT_TOLERANCE {
+            Ok(looker.to_global(&frame, dir))
+        } else {
+            Err(bad(format!(
+                "decided a step along {dir:?}, of length {length}: a direction must be a unit vector"
+            )))
+        }
+    };
     match decision {
-        Decision::Stay => None,
-        Decision::Step(dir) => Some(map(dir) * step),
-        Decision::StepAtMost(dir, dist) => Some(map(dir) * step.min(dist)),
+        Decision::Stay => Ok(None),
+        Decision::Step(dir) => Ok(Some(unit(dir)? * params.step)),
+        Decision::StepAtMost(_, _) if model != Model::Positions => Err(bad(format!(
+            "decided a step bounded by a distance, but it senses {}, which gives no distance (only positions do)",
+            model.name()
+        ))),
+        Decision::StepAtMost(_, dist) if dist.is_nan() || dist < 0.0 => Err(bad(format!(
+            "decided a step of at most {dist}: the bound must be a distance, at least 0"
+        ))),
+        Decision::StepAtMost(dir, dist) => Ok(Some(unit(dir)? * params.step.min(dist))),
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::AlgorithmKind;
-
-    #[derive(serde::Deserialize)]
-    struct Named {
-        name: AlgorithmKind,
-    }
+    use super::{AlgorithmKind, ConvergeQuadrant};
 
     #[test]
-    fn config_names_are_the_display_names() {
-        for kind in AlgorithmKind::ALL {
-            let parsed: Named = toml_like(kind.name());
-            assert_eq!(parsed.name, kind);
-        }
+    fn names_are_unique() {
+        let names: std::collections::HashSet<&str> =
+            AlgorithmKind::ALL.iter().map(|k| k.name()).collect();
+        assert_eq!(names.len(), AlgorithmKind::ALL.len());
     }
 
     /// With a limited range a robot beyond it neither occupies a side nor lets the
     /// bounding box vouch that a robot stays.
     #[test]
     fn a_limited_range_hides_the_sides_beyond_it() {
-        use crate::algorithms::{AlgorithmParams, certainly_stays};
+        use crate::algorithms::{ModelParams, certainly_stays};
         use crate::vision::{ExactSight, VisionParams};
         use glam::DVec2;
         // Robot 1 between robot 0 (1 to its left) and robot 2 (10 to its right, and 10 up
@@ -285,7 +304,7 @@ mod tests {
             DVec2::new(1.0, 10.0),
             DVec2::new(1.0, -10.0),
         ];
-        let params = AlgorithmParams::new(AlgorithmKind::ConvergeQuadrant, 1.0, 2.0);
+        let params = ModelParams::new(1.0, 2.0);
         let unlimited = ExactSight::new(pts.clone(), VisionParams::default());
         let limited = ExactSight::new(
             pts,
@@ -297,8 +316,12 @@ mod tests {
         let occupied = |sight: &ExactSight<DVec2>| sides_occupied(sight, 1);
         assert_eq!(occupied(&unlimited), [true; 4]);
         assert_eq!(occupied(&limited), [true, false, false, false]);
-        assert!(certainly_stays(&params, &unlimited, 1));
-        assert!(!certainly_stays(&params, &limited, 1));
+        assert!(certainly_stays::<ConvergeQuadrant, _, _>(
+            &params, &unlimited, 1
+        ));
+        assert!(!certainly_stays::<ConvergeQuadrant, _, _>(
+            &params, &limited, 1
+        ));
     }
 
     /// Whether robot `me` sees a robot on each side of each axis: x low, x high, y low,
@@ -321,7 +344,7 @@ mod tests {
     /// bounding box vouches for nothing.
     #[test]
     fn fat_robots_hide_a_side_behind_them() {
-        use crate::algorithms::{AlgorithmParams, certainly_stays};
+        use crate::algorithms::{ModelParams, certainly_stays};
         use crate::vision::{ExactSight, VisionParams};
         use glam::DVec2;
         // Robot 0 sees robot 1 just below the x axis, 1 ahead; robot 2 lies 5 ahead just
@@ -334,7 +357,7 @@ mod tests {
             DVec2::new(-3.0, -1.0),
             DVec2::new(-2.0, -4.0),
         ];
-        let params = AlgorithmParams::new(AlgorithmKind::ConvergeQuadrant, 1.0, 2.0);
+        let params = ModelParams::new(1.0, 2.0);
         let points = ExactSight::new(pts.clone(), VisionParams::default());
         let fat = ExactSight::new(
             pts,
@@ -346,15 +369,9 @@ mod tests {
         let occupied = |sight: &ExactSight<DVec2>| sides_occupied(sight, 0);
         assert_eq!(occupied(&points), [true; 4]);
         assert_eq!(occupied(&fat), [true, true, true, false]);
-        assert!(certainly_stays(&params, &points, 0));
-        assert!(!certainly_stays(&params, &fat, 0));
-    }
-
-    /// Deserialises `{ name = "<name>" }` through serde's value deserializer.
-    fn toml_like(name: &str) -> Named {
-        use serde::de::IntoDeserializer;
-        use serde::de::value::{Error, MapDeserializer};
-        let map = MapDeserializer::<_, Error>::new(std::iter::once(("name", name)));
-        serde::Deserialize::deserialize(map.into_deserializer()).unwrap()
+        assert!(certainly_stays::<ConvergeQuadrant, _, _>(
+            &params, &points, 0
+        ));
+        assert!(!certainly_stays::<ConvergeQuadrant, _, _>(&params, &fat, 0));
     }
 }

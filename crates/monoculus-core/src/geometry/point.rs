@@ -26,7 +26,7 @@ pub trait Point:
     /// The dimension d.
     const DIM: usize;
     /// An orthogonal matrix: a rotation, possibly composed with a mirror.
-    type Frame: Copy + Send + Sync + std::fmt::Debug;
+    type Frame: Copy + Send + Sync + std::fmt::Debug + PartialEq;
 
     /// The origin.
     fn zero() -> Self;

@@ -109,6 +109,12 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
             .map(|j| self.local(j))
     }
 
+    /// The direction of a uniformly random visible point, if any.
+    pub fn random_visible(&self, stream: &mut Stream) -> Option<P> {
+        sample_visible_point(self.sight, self.me, &|_| true, &|| false, None, stream)
+            .map(|j| self.local(j))
+    }
+
     /// Every visible point, in unspecified order. Costs a full look (O(n log n)).
     pub fn all(&self) -> Vec<Seen<P>> {
         self.sight

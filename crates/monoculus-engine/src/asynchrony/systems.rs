@@ -1,7 +1,7 @@
 //! The systems of one ASYNC event tick, in the order of [`AsyncSet`].
 
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::RobotMemory;
+use monoculus_core::algorithms::Algorithm;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
@@ -11,10 +11,10 @@ use super::{
     AsyncClock, AsyncSpec, Clocks, CommittedHull, KeptShape, LookSight, Phase, RobotEntities,
     TickDist, Timing,
 };
-use crate::components::Memory;
+use crate::algorithm::Rule;
 use crate::faults::Role;
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
-use crate::systems::{decide_one, realise};
+use crate::systems::{KeptBy, MemoryOf, decide_one, realise};
 use crate::{IndexPoint, SchedulerSpec};
 
 /// The phases of one event tick, run in this order.
@@ -216,22 +216,28 @@ pub(crate) fn positions_now<P: IndexPoint>(
 /// differ in cost, so that they are split as finely as rayon will: measured in
 /// docs/performance.md); a robot crashed by `epoch` (SPEC 9.1: at its first Look at or
 /// after its crash epoch) stays, its memory as it was.
-fn decide_all<P: IndexPoint, S: Sight<P>>(
-    params: &Params,
+type Decided<P, A> = (Option<P>, Option<KeptBy<P, A>>);
+
+/// A looker: its index, its cycle and what it keeps.
+type Looker<P, A> = (u32, u64, Option<KeptBy<P, A>>);
+
+fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
+    (params, algorithm): (&Params, &A),
     sight: &S,
     epoch: u64,
-    inputs: &[(u32, u64, Option<RobotMemory>)],
-) -> Vec<(Option<P>, Option<RobotMemory>)> {
+    inputs: &[Looker<P, A>],
+) -> Vec<Decided<P, A>> {
     inputs
         .par_iter()
-        .map(|&(r, cycle, memory)| {
+        .map(|(r, cycle, memory)| {
+            let (r, cycle) = (*r, *cycle);
+            let mut memory = memory.clone();
             if let Some(Role::Crashed { from }) = params.faults.as_ref().map(|f| f.role(r as usize))
                 && epoch >= from
             {
                 return (None, memory);
             }
-            let mut memory = memory;
-            let d = decide_one(params, sight, r as usize, cycle, memory.as_mut())
+            let d = decide_one(params, algorithm, sight, r as usize, cycle, memory.as_mut())
                 .map(|d| realise(params, r as usize, cycle, d));
             (d, memory)
         })
@@ -254,14 +260,14 @@ type LookState<'w, P> = (
 );
 
 /// Look (and the decision, which the Compute phase then delays).
-pub fn look<P: IndexPoint>(
-    params: Res<Params>,
+pub fn look<P: IndexPoint, A: Algorithm>(
+    (params, algorithm): (Res<Params>, Res<Rule<A>>),
     (mut clock, mut clocks): (ResMut<AsyncClock>, ResMut<Clocks<P>>),
     entities: Res<RobotEntities>,
     positions: Res<Positions<P>>,
     mut tally: ResMut<Tally>,
     (mut committed, mut sight, mut kept_shape): LookState<P>,
-    mut memories: Query<&mut Memory>,
+    mut memories: Query<&mut MemoryOf<P, A>>,
 ) {
     let t = clock.tick;
     let lookers = clock.take_ending(Phase::Idle);
@@ -274,7 +280,12 @@ pub fn look<P: IndexPoint>(
     let with_memory = !memories.is_empty();
     let memory = |r: u32| {
         with_memory
-            .then(|| memories.get(entities.0[r as usize]).ok().map(|m| m.0))
+            .then(|| {
+                memories
+                    .get(entities.0[r as usize])
+                    .ok()
+                    .map(|m| m.0.clone())
+            })
             .flatten()
     };
     let inputs = map_events(&lookers, |r| (r, clocks.0[r as usize].cycle, memory(r)));
@@ -289,17 +300,18 @@ pub fn look<P: IndexPoint>(
         || kept_shape.refresh(|| clocks_now.with_points(pos)),
         || sight.ready(&params, t, pos, lookers.len()),
     );
+    let rule = (&*params, &*algorithm.0);
     let outputs = match sight.at(&params, t, pos, &kept_shape) {
-        Looking::Made(s) => decide_all(&params, &s, clock.epochs, &inputs),
-        Looking::Moving(s) => decide_all(&params, &s, clock.epochs, &inputs),
+        Looking::Made(s) => decide_all(rule, &s, clock.epochs, &inputs),
+        Looking::Moving(s) => decide_all(rule, &s, clock.epochs, &inputs),
         Looking::Snapshot(SnapshotSight::Index(s)) => {
             // Built here (if it must be), its two layouts in parallel, not by the first
             // decision while the other threads wait.
             s.build_index();
-            decide_all(&params, s, clock.epochs, &inputs)
+            decide_all(rule, s, clock.epochs, &inputs)
         }
-        Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(&params, s, clock.epochs, &inputs),
-        Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(&params, s, clock.epochs, &inputs),
+        Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(rule, s, clock.epochs, &inputs),
+        Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(rule, s, clock.epochs, &inputs),
     };
     // Each robot's clock (its Compute phase drawn from its own stream), on both threads
     // on a crowded tick; then, in robot order, its memory, the agenda and the
@@ -316,7 +328,11 @@ pub fn look<P: IndexPoint>(
             timing.since = t;
             timing.until = t + duration(&params, r, timing.cycle, COMPUTE, compute);
             timing.cycle += 1;
-            (timing.until, d.map(|d| pos[r as usize] + d), outputs[i].1)
+            (
+                timing.until,
+                d.map(|d| pos[r as usize] + d),
+                outputs[i].1.clone(),
+            )
         },
         |r, (until, destination, memory)| {
             if let Some(m) = memory

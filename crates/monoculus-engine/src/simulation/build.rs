@@ -16,7 +16,13 @@ pub(super) fn validate<P: IndexPoint>(
             initial.len()
         )));
     }
-    let a = &config.algorithm;
+    if let (Some(reason), 3) = (config.algorithm.plane_only(), P::DIM) {
+        return Err(EngineError::Invalid(format!(
+            "{} {reason}: the plane only (dim = 2)",
+            config.algorithm.name()
+        )));
+    }
+    let a = &config.model;
     if !(a.step > 0.0 && a.step <= MAX_MAGNITUDE) {
         return Err(EngineError::Invalid(format!(
             "step must be positive and at most {MAX_MAGNITUDE:e}, got {}",
@@ -95,12 +101,13 @@ pub(super) fn params(config: &SimConfig, n: usize) -> Params {
         faults: config
             .faults
             .map(|spec| std::sync::Arc::new(crate::FaultPlan::draw(&spec, n, config.seed))),
-        algorithm: config.algorithm,
+        model: config.model,
         vision: config.vision,
         backend: config.backend,
         scheduler: config.scheduler.clone(),
         seed: config.seed,
         movement: config.movement,
+        failure: Default::default(),
     }
 }
 
@@ -135,9 +142,9 @@ pub(super) fn insert_resources<P: IndexPoint>(
     hull_initial
 }
 
-/// Spawns the robots of a run starting at `initial` (with their termination memory,
-/// for the algorithm that has one); under ASYNC, returns their entities by index.
-pub(super) fn spawn_robots<P: IndexPoint>(
+/// Spawns the robots of a run starting at `initial` (with their frame and state, for an
+/// algorithm that keeps one); under ASYNC, returns their entities by index.
+pub(super) fn spawn_robots<P: IndexPoint, A: Algorithm>(
     world: &mut World,
     config: &SimConfig,
     initial: &[P],
@@ -147,16 +154,19 @@ pub(super) fn spawn_robots<P: IndexPoint>(
     // a time left two tables of the swarm behind: half the peak memory). Round
     // schedulers' robots carry their activation, wait and intent; ASYNC robots only
     // their index (their clocks are a table of their own, `Clocks`).
+    let model = <A::Sensing as Sensing>::MODEL;
     let memory = |i: usize| {
         let mut stream = Stream::keyed(config.seed, Purpose::RobotFrame, i as u64, 0);
-        Memory(RobotMemory::new(AxisFrame::random(P::DIM, &mut stream)))
+        Memory::<P, A::State>(Kept {
+            frame: LocalFrame::draw(model, &mut stream),
+            state: A::State::default(),
+        })
     };
     let robot = |i: usize| Robot { index: i as u32 };
     let round = |i: usize| (robot(i), Activated(false), Waiting(0), Intent::<P>(None));
     let n = initial.len();
-    let has_memory = config.algorithm.kind.has_memory();
     let asynchronous = matches!(config.scheduler, SchedulerSpec::Async(_));
-    match (asynchronous, has_memory) {
+    match (asynchronous, keeps_state::<A>()) {
         (false, false) => world.spawn_batch((0..n).map(round)).for_each(drop),
         (false, true) => world
             .spawn_batch((0..n).map(|i| (round(i), memory(i))))

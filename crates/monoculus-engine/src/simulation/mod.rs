@@ -8,14 +8,14 @@ mod wiring;
 pub use view::{Activity, RobotView};
 
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::{AlgorithmParams, RobotMemory};
+use monoculus_core::algorithms::{Algorithm, Kept, LocalFrame, ModelParams, Sensing, keeps_state};
 use monoculus_core::errors::MovementErrors;
-use monoculus_core::geometry::AxisFrame;
 use monoculus_core::metrics;
 use monoculus_core::rng::{Purpose, Stream};
 use monoculus_core::vision::{Sight, VisionParams};
 use rayon::prelude::*;
 
+use crate::algorithm::{AlgorithmBox, Rule, Setup};
 use crate::asynchrony::{
     self, AsyncClock, AsyncSet, Clocks, Phase, RobotEntities, START, duration,
 };
@@ -25,8 +25,8 @@ use crate::resources::{
     SnapshotSight, Tally,
 };
 use crate::systems::{
-    RoundSet, activate_robots, advance_clock, apply_moves, compute_intents, decide_one,
-    measure_committed, measure_shape, refresh_snapshot, take_snapshot,
+    KeptBy, MemoryOf, RoundSet, activate_robots, advance_clock, apply_moves, compute_intents,
+    decide_one, measure_committed, measure_shape, refresh_snapshot, take_snapshot,
 };
 use crate::{
     AsyncStart, EngineError, IndexPoint, MAX_MAGNITUDE, MAX_ROBOTS, SchedulerSpec, StopCriterion,
@@ -36,8 +36,10 @@ use crate::{
 /// Everything that defines a run besides the initial positions.
 #[derive(Clone, Debug)]
 pub struct SimConfig {
-    /// Algorithm, step b, locality c.
-    pub algorithm: AlgorithmParams,
+    /// The algorithm (with its parameters).
+    pub algorithm: AlgorithmBox,
+    /// Step b, locality c, observation errors, target policy.
+    pub model: ModelParams,
     /// Visibility tolerances.
     pub vision: VisionParams,
     /// Visibility backend (the spatial index, or brute force).
@@ -55,22 +57,20 @@ pub struct SimConfig {
 }
 
 impl SimConfig {
-    /// The paper's setting for `kind`: b = 1, c = 2, FSYNC, the default stop criterion
-    /// with a cap of `max_rounds`, the index backend, no errors.
-    pub fn paper(
-        kind: monoculus_core::algorithms::AlgorithmKind,
-        seed: u64,
-        max_rounds: u64,
-    ) -> Self {
+    /// The paper's setting for `algorithm`: b = 1, c = 2, FSYNC, its default stop
+    /// criterion with a cap of `max_rounds`, the index backend, no errors.
+    pub fn paper(algorithm: impl Into<AlgorithmBox>, seed: u64, max_rounds: u64) -> Self {
+        let algorithm = algorithm.into();
         SimConfig {
-            algorithm: AlgorithmParams::new(kind, 1.0, 2.0),
+            stop: StopSpec {
+                criterion: algorithm.default_stop(),
+                max_rounds,
+            },
+            algorithm,
+            model: ModelParams::new(1.0, 2.0),
             vision: VisionParams::for_step(1.0),
             backend: SightBackend::Index,
             scheduler: SchedulerSpec::Fsync,
-            stop: StopSpec {
-                criterion: StopCriterion::default_for(kind),
-                max_rounds,
-            },
             seed,
             movement: MovementErrors::NONE,
             faults: None,
@@ -159,6 +159,9 @@ pub struct RunOutcome {
     pub terminated: Option<u64>,
     /// ASYNC: the tick at which the run stopped.
     pub ticks: Option<u64>,
+    /// Why the run stopped early, if its algorithm failed (a step along a direction that
+    /// is not a unit vector, a panic): the run is then not converged.
+    pub failure: Option<crate::resources::RunFailure>,
     /// The number of faulty robots (SPEC 9.1); the metrics above are the correct robots'.
     pub faulty: u64,
 }
@@ -181,6 +184,7 @@ pub struct Simulation<P: IndexPoint> {
     world: World,
     schedule: Schedule,
     config: SimConfig,
+    hooks: Hooks,
     d_opt: f64,
     d_max: f64,
     hull_initial: f64,
@@ -199,23 +203,24 @@ impl<P: IndexPoint> Simulation<P> {
         if matches!(config.scheduler, SchedulerSpec::Async(_)) {
             wiring::insert_async_resources(&mut world, &initial, hull_initial);
         }
-        let entities = build::spawn_robots(&mut world, &config, &initial);
         let correct = params.correct(&initial);
         let (d_opt, d_max) = (
-            metrics::d_opt(&correct, config.algorithm.locality),
+            metrics::d_opt(&correct, config.model.locality),
             metrics::d_max(&correct),
         );
         drop(correct);
         let mut schedule = Schedule::default();
-        if let SchedulerSpec::Async(spec) = config.scheduler {
-            wiring::wire_async::<P>(&mut world, &mut schedule, &params, spec, entities);
-        } else {
-            let adversary = matches!(config.scheduler, SchedulerSpec::Adversary { .. });
-            wiring::wire_rounds::<P>(&mut schedule, adversary);
-        }
+        let hooks = config.algorithm.for_points::<P>().install(Setup {
+            world: &mut world,
+            schedule: &mut schedule,
+            config: &config,
+            params: &params,
+            initial: &initial,
+        });
         Ok(Simulation {
             world,
             schedule,
+            hooks,
             d_opt,
             d_max,
             hull_initial,
@@ -287,5 +292,50 @@ impl<P: IndexPoint> Simulation<P> {
             positions: self.positions(),
             world: &self.world,
         }
+    }
+}
+
+/// What a run's loop asks of its algorithm, compiled for it when the run is built: plain
+/// functions of the world, so that the loop itself is the same for every algorithm.
+pub(crate) struct Hooks {
+    /// Whether no correct robot would move if activated now.
+    pub(crate) quiescent: fn(&mut World) -> bool,
+    /// The robots' kept states, to be put back (`None`: the algorithm keeps none).
+    pub(crate) save: fn(&mut World) -> Option<Box<dyn std::any::Any + Send>>,
+    /// Puts back what `save` took.
+    pub(crate) restore: fn(&mut World, Box<dyn std::any::Any + Send>),
+    /// How many robots have terminated, for algorithms that terminate.
+    pub(crate) terminated: fn(&mut World) -> Option<u64>,
+    /// The byte of each robot's state that a replay shows, by robot (empty if none).
+    pub(crate) shown_bits: fn(&World) -> Vec<(u32, u8)>,
+}
+
+/// Installs `algorithm` into a run: its resource, the robots (with their kept frames and
+/// states), the systems of the scheduler compiled for it; returns the loop's hooks.
+pub(crate) fn install<P: IndexPoint, A: Algorithm>(
+    algorithm: std::sync::Arc<A>,
+    setup: Setup<'_, P>,
+) -> Hooks {
+    let Setup {
+        world,
+        schedule,
+        config,
+        params,
+        initial,
+    } = setup;
+    world.insert_resource(Rule(algorithm));
+    let entities = build::spawn_robots::<P, A>(world, config, initial);
+    if let SchedulerSpec::Async(spec) = config.scheduler {
+        wiring::wire_async::<P, A>(world, schedule, params, spec, entities);
+    } else {
+        let adversary = matches!(config.scheduler, SchedulerSpec::Adversary { .. });
+        wiring::wire_rounds::<P, A>(schedule, adversary);
+    }
+    Hooks {
+        quiescent: run::quiescent::<P, A>,
+        save: run::save_states::<P, A>,
+        restore: run::restore_states::<P, A>,
+        terminated: run::terminated::<P, A>,
+        shown_bits: view::shown_bits::<P, A>,
     }
 }

@@ -2,49 +2,95 @@
 
 use super::*;
 
-impl<P: IndexPoint> Simulation<P> {
-    fn memories(&mut self) -> Vec<(Entity, RobotMemory)> {
-        let mut q = self.world.query::<(Entity, &Memory)>();
-        q.iter(&self.world).map(|(e, m)| (e, m.0)).collect()
+/// Whether no correct robot would move if activated now (the robots' states copied:
+/// nothing is changed).
+pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool {
+    refresh_snapshot::<P>(world);
+    let params = world.resource::<Params>().clone();
+    let mut q = world.query::<(&Robot, Option<&MemoryOf<P, A>>)>();
+    let robots: Vec<(usize, Option<KeptBy<P, A>>)> = q
+        .iter(world)
+        .filter(|(r, _)| params.is_correct(r.index as usize))
+        .map(|(r, m)| (r.index as usize, m.map(|m| m.0.clone())))
+        .collect();
+    let algorithm = world.resource::<Rule<A>>().0.clone();
+    let snapshot = world.resource::<Snapshot<P>>();
+    fn any_moves<P: IndexPoint, S: Sight<P>, A: Algorithm>(
+        (params, algorithm): (&Params, &A),
+        sight: &S,
+        robots: &[(usize, Option<KeptBy<P, A>>)],
+    ) -> bool {
+        robots.par_iter().with_min_len(32).any(|(i, memory)| {
+            let mut memory = memory.clone();
+            decide_one(params, algorithm, sight, *i, u64::MAX, memory.as_mut()).is_some()
+        })
     }
+    let rule = (&params, &*algorithm);
+    let quiet = match snapshot.sight.as_ref().expect("snapshot refreshed") {
+        SnapshotSight::Index(s) => !any_moves(rule, s, &robots),
+        SnapshotSight::Exact(s) => !any_moves(rule, s, &robots),
+        SnapshotSight::Rtree(s) => !any_moves(rule, s, &robots),
+    };
+    if matches!(params.scheduler, SchedulerSpec::Async(_)) {
+        // ASYNC's Looks see through their own sight: the snapshot taken for this
+        // check would only hold a copy of the swarm and a grid until the next one.
+        world.resource_mut::<Snapshot<P>>().sight = None;
+    }
+    quiet
+}
 
+type Saved<P, A> = Vec<(Entity, KeptBy<P, A>)>;
+
+/// The robots' kept states, if the algorithm keeps any.
+pub(super) fn save_states<P: IndexPoint, A: Algorithm>(
+    world: &mut World,
+) -> Option<Box<dyn std::any::Any + Send>> {
+    if !keeps_state::<A>() {
+        return None;
+    }
+    let mut q = world.query::<(Entity, &MemoryOf<P, A>)>();
+    let saved: Saved<P, A> = q.iter(world).map(|(e, m)| (e, m.0.clone())).collect();
+    Some(Box::new(saved))
+}
+
+/// Puts back what [`save_states`] took.
+pub(super) fn restore_states<P: IndexPoint, A: Algorithm>(
+    world: &mut World,
+    saved: Box<dyn std::any::Any + Send>,
+) {
+    let saved = saved
+        .downcast::<Saved<P, A>>()
+        .expect("the states this run saved");
+    for (e, m) in *saved {
+        world.entity_mut(e).insert(Memory(m));
+    }
+}
+
+/// How many robots have terminated, for algorithms that say ([`Algorithm::terminated`]).
+pub(super) fn terminated<P: IndexPoint, A: Algorithm>(world: &mut World) -> Option<u64> {
+    A::terminated(&A::State::default(), P::DIM)?;
+    let mut q = world.query::<&MemoryOf<P, A>>();
+    Some(
+        q.iter(world)
+            .filter(|m| A::terminated(&m.0.state, P::DIM) == Some(true))
+            .count() as u64,
+    )
+}
+
+impl<P: IndexPoint> Simulation<P> {
     /// Whether no correct robot would move if activated now.
     pub fn is_quiescent(&mut self) -> bool {
-        refresh_snapshot::<P>(&mut self.world);
-        let mut q = self.world.query::<(&Robot, Option<&Memory>)>();
-        let params = self.world.resource::<Params>().clone();
-        let robots: Vec<(usize, Option<RobotMemory>)> = q
-            .iter(&self.world)
-            .filter(|(r, _)| params.is_correct(r.index as usize))
-            .map(|(r, m)| (r.index as usize, m.map(|m| m.0)))
-            .collect();
-        let snapshot = self.world.resource::<Snapshot<P>>();
-        fn any_moves<P: IndexPoint, S: Sight<P>>(
-            params: &Params,
-            sight: &S,
-            robots: &[(usize, Option<RobotMemory>)],
-        ) -> bool {
-            robots.par_iter().with_min_len(32).any(|&(i, memory)| {
-                let mut memory = memory;
-                decide_one(params, sight, i, u64::MAX, memory.as_mut()).is_some()
-            })
-        }
-        let quiet = match snapshot.sight.as_ref().expect("snapshot refreshed") {
-            SnapshotSight::Index(s) => !any_moves(&params, s, &robots),
-            SnapshotSight::Exact(s) => !any_moves(&params, s, &robots),
-            SnapshotSight::Rtree(s) => !any_moves(&params, s, &robots),
-        };
-        if matches!(params.scheduler, SchedulerSpec::Async(_)) {
-            // ASYNC's Looks see through their own sight: the snapshot taken for this
-            // check would only hold a copy of the swarm and a grid until the next one.
-            self.world.resource_mut::<Snapshot<P>>().sight = None;
-        }
-        quiet
+        (self.hooks.quiescent)(&mut self.world)
+    }
+
+    /// Why the run has failed, if its algorithm made a bad decision or panicked.
+    pub fn failure(&self) -> Option<crate::resources::RunFailure> {
+        self.world.resource::<Params>().failure.get()
     }
 
     fn criterion_holds(&mut self) -> bool {
-        let c = self.config.algorithm.locality;
-        let b = self.config.algorithm.step;
+        let c = self.config.model.locality;
+        let b = self.config.model.step;
         let shape = self.world.resource::<Shape>();
         let (diameter_ok, box_ok) = (
             shape.diameter <= c,
@@ -69,7 +115,7 @@ impl<P: IndexPoint> Simulation<P> {
                 }
                 let key = (
                     self.world.resource::<Positions<P>>().generation,
-                    if self.config.algorithm.kind.has_memory() {
+                    if self.config.algorithm.keeps_state() {
                         self.world.resource::<Tally>().activations
                     } else {
                         0
@@ -113,6 +159,9 @@ impl<P: IndexPoint> Simulation<P> {
         let quiescence = self.config.stop.criterion.checks_quiescence();
         let mut rounds = 0u64;
         let converged = loop {
+            if self.failure().is_some() {
+                break false;
+            }
             if self.criterion_holds() {
                 break true;
             }
@@ -127,19 +176,20 @@ impl<P: IndexPoint> Simulation<P> {
             }
             let before = *self.world.resource::<Tally>();
             let check = fsync && quiescence;
-            let memories = if check && self.config.algorithm.kind.has_memory() {
-                self.memories()
+            let saved = if check {
+                (self.hooks.save)(&mut self.world)
             } else {
-                Vec::new()
+                None
             };
             self.step();
-            if check && self.world.resource::<Tally>().round_moves == 0 {
+            if check && self.world.resource::<Tally>().round_moves == 0 && self.failure().is_none()
+            {
                 // Nobody moved with everybody activated: the configuration before this
                 // round was quiescent. The round was the check, not a round of the run:
-                // its activations and the bits it set are undone.
+                // its activations and the states it changed are undone.
                 *self.world.resource_mut::<Tally>() = before;
-                for (e, m) in memories {
-                    self.world.entity_mut(e).insert(Memory(m));
+                if let Some(saved) = saved {
+                    (self.hooks.restore)(&mut self.world, saved);
                 }
                 break true;
             }
@@ -154,6 +204,9 @@ impl<P: IndexPoint> Simulation<P> {
     /// `after` is called after every tick, with whether it completed an epoch.
     pub(super) fn run_async_with(&mut self, mut after: impl FnMut(&Self, bool)) -> RunOutcome {
         let converged = loop {
+            if self.failure().is_some() {
+                break false;
+            }
             if self.criterion_holds() {
                 break true;
             }
@@ -171,12 +224,7 @@ impl<P: IndexPoint> Simulation<P> {
     fn outcome(&mut self, rounds: u64, converged: bool) -> RunOutcome {
         let tally = *self.world.resource::<Tally>();
         let shape = self.world.resource::<Shape>().clone();
-        let terminated = if self.config.algorithm.kind.has_memory() {
-            let mut q = self.world.query::<&Memory>();
-            Some(q.iter(&self.world).filter(|m| m.0.terminated()).count() as u64)
-        } else {
-            None
-        };
+        let terminated = (self.hooks.terminated)(&mut self.world);
         RunOutcome {
             rounds,
             activations: tally.activations,
@@ -195,6 +243,7 @@ impl<P: IndexPoint> Simulation<P> {
             committed_hull_growth: tally.committed_hull_growth,
             terminated,
             ticks: self.world.get_resource::<AsyncClock>().map(|c| c.tick),
+            failure: self.failure(),
             faulty: self
                 .world
                 .resource::<Params>()

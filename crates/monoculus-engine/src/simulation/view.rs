@@ -26,8 +26,8 @@ pub struct RobotView<P> {
     pub looked: bool,
     /// The displacement it decided at its last Look (`None`: stay, or no Look yet).
     pub decision: Option<P>,
-    /// The termination algorithm's memory.
-    pub memory: Option<RobotMemory>,
+    /// The byte of its state a replay shows (the termination algorithm: its bits).
+    pub bits: Option<u8>,
 }
 
 impl<P: IndexPoint> Simulation<P> {
@@ -58,7 +58,7 @@ impl<P: IndexPoint> Simulation<P> {
                 activity: Activity::Idle,
                 looked: false,
                 decision: None,
-                memory: None,
+                bits: None,
             };
             n
         ];
@@ -75,7 +75,7 @@ impl<P: IndexPoint> Simulation<P> {
                     },
                     looked,
                     decision: if started { t.pending() } else { None },
-                    memory: None,
+                    bits: None,
                 };
             }
         } else {
@@ -94,15 +94,12 @@ impl<P: IndexPoint> Simulation<P> {
                     },
                     looked,
                     decision: if looked { intent.0 } else { None },
-                    memory: None,
+                    bits: None,
                 };
             }
         }
-        // Only the termination algorithm's robots carry a memory (and register it).
-        if let Some(mut q) = self.world.try_query::<(&Robot, &Memory)>() {
-            for (r, m) in q.iter(&self.world) {
-                views[r.index as usize].memory = Some(m.0);
-            }
+        for (r, bits) in (self.hooks.shown_bits)(&self.world) {
+            views[r as usize].bits = Some(bits);
         }
         views
     }
@@ -116,4 +113,18 @@ impl<P: IndexPoint> Simulation<P> {
         }
         self.run_rounds_with(|sim, _| on_step(sim))
     }
+}
+
+/// The byte of each robot's state a replay shows ([`Algorithm::shown_bits`]), by robot.
+pub(super) fn shown_bits<P: IndexPoint, A: Algorithm>(world: &World) -> Vec<(u32, u8)> {
+    if A::shown_bits(&A::State::default()).is_none() {
+        return Vec::new();
+    }
+    // Only the robots of an algorithm with a state carry one (and register it).
+    let Some(mut q) = world.try_query::<(&Robot, &MemoryOf<P, A>)>() else {
+        return Vec::new();
+    };
+    q.iter(world)
+        .filter_map(|(r, m)| A::shown_bits(&m.0.state).map(|b| (r.index, b)))
+        .collect()
 }

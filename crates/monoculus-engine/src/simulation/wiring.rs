@@ -21,7 +21,7 @@ pub(super) fn insert_async_resources<P: IndexPoint>(
 
 /// Wires the ASYNC scheduler over the robots spawned as `entities` (by index): every
 /// robot's first phase, the clock, the tick's systems.
-pub(super) fn wire_async<P: IndexPoint>(
+pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(
     world: &mut World,
     schedule: &mut Schedule,
     params: &Params,
@@ -55,17 +55,17 @@ pub(super) fn wire_async<P: IndexPoint>(
         asynchrony::advance::<P>.in_set(AsyncSet::Advance),
         asynchrony::finish_moves::<P>.in_set(AsyncSet::FinishMoves),
         asynchrony::finish_computes::<P>.in_set(AsyncSet::FinishComputes),
-        asynchrony::look::<P>.in_set(AsyncSet::Look),
+        asynchrony::look::<P, A>.in_set(AsyncSet::Look),
         asynchrony::account::<P>.in_set(AsyncSet::Account),
     ));
 }
 
 /// Wires a synchronous round (FSYNC, SSYNC, sequential, file, adversary: the adversary
 /// chooses after the Look, from the robots' decisions on the snapshot).
-pub(super) fn wire_rounds<P: IndexPoint>(schedule: &mut Schedule, adversary: bool) {
+pub(super) fn wire_rounds<P: IndexPoint, A: Algorithm>(schedule: &mut Schedule, adversary: bool) {
     if adversary {
         schedule.add_systems(
-            crate::systems::choose_adversarially::<P>
+            crate::systems::choose_adversarially::<P, A>
                 .after(take_snapshot::<P>)
                 .in_set(RoundSet::Look),
         );
@@ -83,7 +83,7 @@ pub(super) fn wire_rounds<P: IndexPoint>(schedule: &mut Schedule, adversary: boo
     schedule.add_systems((
         activate_robots.in_set(RoundSet::Activate),
         take_snapshot::<P>.in_set(RoundSet::Look),
-        compute_intents::<P>.in_set(RoundSet::Compute),
+        compute_intents::<P, A>.in_set(RoundSet::Compute),
         (measure_committed::<P>, apply_moves::<P>)
             .chain()
             .in_set(RoundSet::Move),

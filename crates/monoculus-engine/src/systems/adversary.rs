@@ -3,28 +3,30 @@
 //! k-fairness forces.
 
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::RobotMemory;
+use monoculus_core::algorithms::Algorithm;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
+use super::compute::{KeptBy, MemoryOf};
 use super::{decide_one, hull_grew};
-use crate::components::{Activated, Memory, Robot, Waiting};
+use crate::algorithm::Rule;
+use crate::components::{Activated, Robot, Waiting};
 use crate::resources::{Clock, Params, Positions, Snapshot, SnapshotSight};
 use crate::{IndexPoint, Objective, SchedulerSpec};
 
 /// Every robot's decision this round, by index (memories copied: nothing is changed).
-fn decisions<P: IndexPoint, S: Sight<P>>(
-    params: &Params,
+fn decisions<P: IndexPoint, S: Sight<P>, A: Algorithm>(
+    (params, algorithm): (&Params, &A),
     sight: &S,
     round: u64,
-    robots: &[(usize, Option<RobotMemory>)],
+    robots: &[(usize, Option<KeptBy<P, A>>)],
 ) -> Vec<Option<P>> {
     robots
         .par_iter()
         .with_min_len(32)
-        .map(|&(i, memory)| {
-            let mut memory = memory;
-            decide_one(params, sight, i, round, memory.as_mut())
+        .map(|(i, memory)| {
+            let mut memory = memory.clone();
+            decide_one(params, algorithm, sight, *i, round, memory.as_mut())
         })
         .collect()
 }
@@ -88,14 +90,23 @@ pub fn preferred<P: IndexPoint>(
     vec![slowest.0]
 }
 
+/// A robot as the adversary sees it: its activation, its wait, what it keeps.
+type Scheduled<'a, P, A> = (
+    &'a Robot,
+    &'a mut Activated,
+    &'a mut Waiting,
+    Option<&'a MemoryOf<P, A>>,
+);
+
 /// The adversary's Activate, after the Look: every robot not activated in the last k - 1
 /// rounds, and the robots [`preferred`] picks among those that would move.
-pub fn choose_adversarially<P: IndexPoint>(
+pub fn choose_adversarially<P: IndexPoint, A: Algorithm>(
     params: Res<Params>,
+    algorithm: Res<Rule<A>>,
     clock: Res<Clock>,
     snapshot: Res<Snapshot<P>>,
     positions: Res<Positions<P>>,
-    mut robots: Query<(&Robot, &mut Activated, &mut Waiting, Option<&Memory>)>,
+    mut robots: Query<Scheduled<P, A>>,
 ) {
     let SchedulerSpec::Adversary {
         objective,
@@ -104,17 +115,18 @@ pub fn choose_adversarially<P: IndexPoint>(
     else {
         unreachable!("wired only for the adversary")
     };
-    let mut order: Vec<(usize, Option<RobotMemory>)> = robots
+    let mut order: Vec<(usize, Option<KeptBy<P, A>>)> = robots
         .iter()
-        .map(|(r, _, _, m)| (r.index as usize, m.map(|m| m.0)))
+        .map(|(r, _, _, m)| (r.index as usize, m.map(|m| m.0.clone())))
         .collect();
     order.sort_unstable_by_key(|r| r.0);
     let n = order.len();
     let sight = snapshot.sight.as_ref().expect("the Look runs first");
+    let rule = (&*params, &*algorithm.0);
     let moves = match sight {
-        SnapshotSight::Index(s) => decisions(&params, s, clock.round, &order),
-        SnapshotSight::Exact(s) => decisions(&params, s, clock.round, &order),
-        SnapshotSight::Rtree(s) => decisions(&params, s, clock.round, &order),
+        SnapshotSight::Index(s) => decisions(rule, s, clock.round, &order),
+        SnapshotSight::Exact(s) => decisions(rule, s, clock.round, &order),
+        SnapshotSight::Rtree(s) => decisions(rule, s, clock.round, &order),
     };
     let chosen = preferred(objective, &positions.points, &moves);
     let k = fairness.unwrap_or(n as u32).max(1);

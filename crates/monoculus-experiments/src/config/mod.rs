@@ -15,14 +15,14 @@ use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use monoculus_core::algorithms::{AlgorithmKind, AlgorithmParams};
+use monoculus_core::algorithms::ModelParams;
 use monoculus_core::errors::{FactorDist, MovementErrors, ObservationErrors};
 use monoculus_core::geometry::Point;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::VisionParams;
 use monoculus_engine::{
-    AsyncSpec, ByzantineRule, CrashAt, FaultCount, FaultKind, FaultSpec, MAX_MAGNITUDE,
-    SchedulerSpec, SimConfig, StopCriterion, StopSpec, TickDist,
+    AlgorithmBox, AsyncSpec, ByzantineRule, CrashAt, FaultCount, FaultKind, FaultSpec,
+    MAX_MAGNITUDE, SchedulerSpec, SimConfig, StopCriterion, StopSpec, TickDist,
 };
 
 pub use error::ConfigError;
@@ -34,6 +34,7 @@ use sweep::render;
 use typed::typed;
 use validate::{validate, validate_axes, validate_run_count};
 
+use crate::Registry;
 use crate::positions::{PositionsError, PositionsFile, parse_positions};
 use crate::schedule::{ScheduleFile, parse_schedule};
 
@@ -55,8 +56,10 @@ pub struct Cell {
     pub key: String,
     /// The value of each axis in this cell, rendered.
     pub values: Vec<(String, String)>,
-    /// The typed configuration.
+    /// The typed configuration (`algorithm.params` in full, defaults filled in).
     pub spec: RunSpec,
+    /// The algorithm, with its parameters.
+    pub algorithm: AlgorithmBox,
     /// Positions read from `swarm.file`, if `init = "file"`.
     pub file_positions: Option<PositionsFile>,
     /// The schedule read from `scheduler.file`, if `scheduler.kind = "file"`.

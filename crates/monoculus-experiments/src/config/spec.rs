@@ -1,6 +1,5 @@
 //! The typed form of one cell of an experiment: every field a single value.
 
-use monoculus_core::algorithms::AlgorithmKind;
 use monoculus_core::errors::FactorDist;
 use monoculus_engine::{
     AsyncStart, ByzantineRule, Objective, SequentialOrder, SightBackend, TickDist,
@@ -272,8 +271,8 @@ fn default_locality() -> f64 {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AlgorithmSpec {
-    /// Which algorithm.
-    pub name: AlgorithmKind,
+    /// Which algorithm: a name the binary registers (see [`crate::Registry`]).
+    pub name: String,
     /// Step length b. Default 1.
     #[serde(default = "default_step")]
     pub step: f64,
@@ -283,6 +282,9 @@ pub struct AlgorithmSpec {
     /// Target policy. Default random.
     #[serde(default)]
     pub target: TargetPolicy,
+    /// `[algorithm.params]`: the algorithm's own parameters (read by its type).
+    #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
+    pub params: toml::Table,
 }
 
 fn default_eps_ang() -> f64 {

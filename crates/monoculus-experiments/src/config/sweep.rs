@@ -77,8 +77,13 @@ pub(super) fn render(value: &toml::Value) -> String {
 }
 
 impl Experiment {
-    /// Loads and validates the config at `path`, with `--set` overrides.
-    pub fn load(path: &Path, overrides: &[String]) -> Result<Experiment, ConfigError> {
+    /// Loads and validates the config at `path`, with `--set` overrides; algorithm
+    /// names resolve through `registry`.
+    pub fn load(
+        path: &Path,
+        overrides: &[String],
+        registry: &Registry,
+    ) -> Result<Experiment, ConfigError> {
         let label = path.display().to_string();
         let fail = |message: String| ConfigError {
             file: label.clone(),
@@ -110,16 +115,17 @@ impl Experiment {
             ))
         })?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        Self::parse(&text, &label, &base, overrides)
+        Self::parse(&text, &label, &base, overrides, registry)
     }
 
     /// Parses a config from its text; `label` names it in errors, `base` resolves
-    /// relative file paths.
+    /// relative file paths, `registry` algorithm names.
     pub fn parse(
         text: &str,
         label: &str,
         base: &Path,
         overrides: &[String],
+        registry: &Registry,
     ) -> Result<Experiment, ConfigError> {
         let mut table: toml::Table = toml::from_str(text).map_err(|e| {
             let line = e.span().map(|s| line_of_offset(text, s.start));
@@ -182,9 +188,10 @@ impl Experiment {
                 set_path(&mut cell_table, &axis.path, axis.values[c].clone());
                 values.push((axis.path.clone(), render(&axis.values[c])));
             }
-            let spec = typed(cell_table, &src)?;
-            let (file_positions, schedule) =
-                validate(&spec, &src, base, &mut files, &mut warnings)?;
+            let mut spec = typed(cell_table, &src)?;
+            let (algorithm, params) = validate::algorithm(&spec, &src, registry, &mut warnings)?;
+            spec.algorithm.params = params;
+            let (file_positions, schedule) = validate(&spec, &src, base, &mut files)?;
             let key = values
                 .iter()
                 .map(|(k, v)| format!("{k}={v}"))
@@ -195,6 +202,7 @@ impl Experiment {
                 key,
                 values,
                 spec,
+                algorithm,
                 file_positions,
                 schedule,
             });

@@ -3,9 +3,9 @@
 use super::*;
 
 impl Cell {
-    /// The algorithm.
-    pub fn algorithm(&self) -> AlgorithmKind {
-        self.spec.algorithm.name
+    /// The algorithm (with its parameters).
+    pub fn algorithm(&self) -> &AlgorithmBox {
+        &self.algorithm
     }
 
     /// Number of robots.
@@ -18,7 +18,7 @@ impl Cell {
     /// The stop criterion in force.
     pub fn criterion(&self) -> StopCriterion {
         match self.spec.stop.criterion {
-            CriterionName::Default => StopCriterion::default_for(self.algorithm()),
+            CriterionName::Default => self.algorithm.default_stop(),
             CriterionName::Quiescent => StopCriterion::Quiescent,
             CriterionName::Diameter => StopCriterion::Diameter,
             CriterionName::QuiescentOrDiameter => StopCriterion::QuiescentOrDiameter,
@@ -33,8 +33,8 @@ impl Cell {
         let defaults = VisionParams::for_step(a.step);
         let sc = &self.spec.scheduler;
         SimConfig {
-            algorithm: AlgorithmParams {
-                kind: self.algorithm(),
+            algorithm: self.algorithm.clone(),
+            model: ModelParams {
                 step: a.step,
                 locality: a.locality,
                 errors: ObservationErrors {

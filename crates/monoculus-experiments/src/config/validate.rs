@@ -221,12 +221,65 @@ fn validate_faults(f: &FaultsConfig, n: usize, src: &Source<'_>) -> Result<(), C
     Ok(())
 }
 
+/// The cell's algorithm from the registry, with its parameters read from
+/// `[algorithm.params]` (and written back in full): the name, the parameters' keys and
+/// values, the dimension it runs in, and the paper's c >= 2b (a warning).
+pub(super) fn algorithm(
+    spec: &RunSpec,
+    src: &Source<'_>,
+    registry: &Registry,
+    warnings: &mut Vec<String>,
+) -> Result<(AlgorithmBox, toml::Table), ConfigError> {
+    let a = &spec.algorithm;
+    let Some(entry) = registry.get(&a.name) else {
+        let names = registry.names();
+        return Err(src.error(
+            "algorithm.name",
+            format!(
+                "{} is not an algorithm of this binary; it has {}",
+                crate::shown(&a.name),
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            ),
+        ));
+    };
+    let (algorithm, params) = entry.make(&a.params).map_err(|e| {
+        let key = if e.key.is_empty() {
+            "algorithm.params".to_string()
+        } else {
+            format!("algorithm.params.{}", e.key)
+        };
+        src.error(&key, e.message)
+    })?;
+    if let (Some(reason), 3) = (algorithm.plane_only(), spec.swarm.dim) {
+        return Err(src.error(
+            "algorithm.name",
+            format!("{} {reason}: dim must be 2", algorithm.name()),
+        ));
+    }
+    if algorithm.assumes_c_at_least_2b() && a.locality < 2.0 * a.step {
+        let line = line_of(src.text, "algorithm.locality")
+            .map(|l| format!(":{l}"))
+            .unwrap_or_default();
+        warnings.push(format!(
+            "{}{line}: algorithm.locality: c = {} < 2b = {}: the paper's convergence guarantees for {} need c >= 2b",
+            src.label,
+            a.locality,
+            2.0 * a.step,
+            algorithm.name()
+        ));
+    }
+    Ok((algorithm, params))
+}
+
 pub(super) fn validate(
     spec: &RunSpec,
     src: &Source<'_>,
     base: &Path,
     files: &mut Files,
-    warnings: &mut Vec<String>,
 ) -> Result<Loaded, ConfigError> {
     let err = |key: &str, m: String| Err(src.error(key, m));
     match &spec.seeds {
@@ -247,20 +300,6 @@ pub(super) fn validate(
         return err("name", problem);
     }
     let s = &spec.swarm;
-    if s.dim == 3
-        && matches!(
-            spec.algorithm.name,
-            AlgorithmKind::Median | AlgorithmKind::AngleBisector
-        )
-    {
-        return err(
-            "algorithm.name",
-            format!(
-                "{} is defined by angular order in the plane (the paper's Figure 1): dim must be 2",
-                spec.algorithm.name.name()
-            ),
-        );
-    }
     if s.dim != 2 && s.dim != 3 {
         return err("swarm.dim", format!("must be 2 or 3, got {}", s.dim));
     }
@@ -346,19 +385,6 @@ pub(super) fn validate(
     }
     if let Some(m) = bounded(a.locality, false) {
         return err("algorithm.locality", m);
-    }
-    let kind = a.name;
-    if kind.needs_locality_at_least_twice_step() && a.locality < 2.0 * a.step {
-        let line = line_of(src.text, "algorithm.locality")
-            .map(|l| format!(":{l}"))
-            .unwrap_or_default();
-        warnings.push(format!(
-            "{}{line}: algorithm.locality: c = {} < 2b = {}: the paper's convergence guarantees for {} need c >= 2b",
-            src.label,
-            a.locality,
-            2.0 * a.step,
-            kind.name()
-        ));
     }
     let v = &spec.vision;
     for (key, value) in [

@@ -2,7 +2,6 @@
 //! and, for runs of few robots, what each robot saw at its Looks.
 
 use glam::{DVec2, DVec3};
-use monoculus_core::algorithms::{AlgorithmKind, Model};
 use monoculus_core::observe::inspect;
 use monoculus_engine::resources::Shape;
 use monoculus_engine::{Activity, EngineError, IndexPoint, IndexedSight, RunOutcome, Simulation};
@@ -11,14 +10,6 @@ use super::{
     Drawn, Frame, Limits, Look, Replay, State, coords, frame_bytes, hull_of, look_bytes, ordinal,
 };
 use crate::Cell;
-
-fn model_name(kind: AlgorithmKind) -> &'static str {
-    match kind.model() {
-        Model::Ld => "ld",
-        Model::Ola => "ola",
-        Model::Positions => "positions",
-    }
-}
 
 /// Records one run of `cell` with `seed`.
 pub fn record(
@@ -160,7 +151,7 @@ impl<P: IndexPoint> Recorder<P> {
                 .drawn
                 .robots
                 .iter()
-                .map(|&i| views[i].memory.map_or(0, |m| m.bits))
+                .map(|&i| views[i].bits.unwrap_or(0))
                 .collect();
         }
         if !self.record_looks || !views.iter().any(|v| v.looked) {
@@ -258,7 +249,7 @@ fn record_in<P: IndexPoint>(
     let kind = cell.algorithm();
     let record_looks = sample == 1 && n <= limits.max_look_robots;
     let mut notes = Vec::new();
-    if config.algorithm.errors.any() {
+    if config.model.errors.any() {
         notes.push(
             "Looks are shown as the robots' exact senses; the run's observation errors are not drawn"
                 .to_string(),
@@ -271,14 +262,14 @@ fn record_in<P: IndexPoint>(
         kind.name(),
         scheduler_name(cell),
         P::DIM,
-        config.algorithm.step,
-        config.algorithm.locality
+        config.model.step,
+        config.model.locality
     );
     let replay = Replay {
         ticks,
-        model: model_name(kind),
-        locality: config.algorithm.locality,
-        termination: kind.has_memory(),
+        model: kind.model().name(),
+        locality: config.model.locality,
+        termination: kind.shows_bits(),
         looks_note: (!record_looks).then(|| {
             format!(
                 "Looks are recorded for runs of at most {} robots, all drawn",
@@ -355,7 +346,14 @@ mod tests {
     use std::path::Path;
 
     fn cell(text: &str) -> Cell {
-        let exp = Experiment::parse(text, "test.toml", Path::new("."), &[]).unwrap();
+        let exp = Experiment::parse(
+            text,
+            "test.toml",
+            Path::new("."),
+            &[],
+            &crate::Registry::builtin(),
+        )
+        .unwrap();
         assert_eq!(exp.cells.len(), 1);
         exp.cells[0].clone()
     }

@@ -60,12 +60,12 @@ fn mismatch(path: &Path, message: impl Into<String>) -> ResultsError {
 fn load_experiment(
     dir: &Path,
     text: &str,
-    record: &Provenance,
-    record_path: &Path,
+    (record, record_path): (&Provenance, &Path),
+    registry: &crate::Registry,
 ) -> Result<Experiment, ResultsError> {
     let path = dir.join("config.toml");
     let exp = record
-        .experiment(&record_path.display().to_string())
+        .experiment(&record_path.display().to_string(), registry)
         .map_err(|e| mismatch(record_path, format!("its config cannot be read back: {e}")))?;
     if exp.resolved != text {
         return Err(mismatch(
@@ -82,8 +82,14 @@ fn load_experiment(
 }
 
 /// Merges the shard files of `dir`. With `partial`, writes what is there even if runs
-/// are missing; without, writes nothing then. `job` is the batch job, for provenance.
-pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeReport, ResultsError> {
+/// are missing; without, writes nothing then. `job` is the batch job, for provenance;
+/// `registry` resolves the config's algorithms.
+pub fn merge(
+    dir: &Path,
+    partial: bool,
+    job: Option<String>,
+    registry: &crate::Registry,
+) -> Result<MergeReport, ResultsError> {
     let attempt = Attempt::this_process(Some("merge".into()), job);
     let _lock = lock_folder(dir, LockKind::Exclusive, &attempt.describe())?;
     let files = shard_files(dir)?;
@@ -133,7 +139,7 @@ pub fn merge(dir: &Path, partial: bool, job: Option<String>) -> Result<MergeRepo
         }
         records.push((record, record_path));
     }
-    let exp = load_experiment(dir, &config_text, &records[0].0, &records[0].1)?;
+    let exp = load_experiment(dir, &config_text, (&records[0].0, &records[0].1), registry)?;
     let runs = exp.runs();
     let of = assign(&exp, count);
     let share: HashMap<RunId, usize> = runs.iter().copied().zip(of.iter().copied()).collect();

@@ -129,13 +129,19 @@ impl Provenance {
         }
     }
 
-    /// Rebuilds the experiment the record was written for.
-    pub fn experiment(&self, label: &str) -> Result<Experiment, crate::ConfigError> {
+    /// Rebuilds the experiment the record was written for (its algorithms resolved
+    /// through `registry`).
+    pub fn experiment(
+        &self,
+        label: &str,
+        registry: &crate::Registry,
+    ) -> Result<Experiment, crate::ConfigError> {
         Experiment::parse(
             &self.config_source,
             label,
             Path::new(&self.config_base),
             &self.config_overrides,
+            registry,
         )
     }
 
@@ -199,6 +205,7 @@ mod tests {
             "p.toml",
             Path::new("/c"),
             &["seeds=2".into()],
+            &crate::Registry::builtin(),
         )
         .unwrap();
         let mut r = Provenance::new(&exp);
@@ -210,7 +217,12 @@ mod tests {
         r.write(&p).unwrap();
         let back = Provenance::read(&p).unwrap().unwrap();
         assert_eq!(back, r);
-        assert_eq!(back.experiment("p.toml").unwrap().resolved, exp.resolved);
+        assert_eq!(
+            back.experiment("p.toml", &crate::Registry::builtin())
+                .unwrap()
+                .resolved,
+            exp.resolved
+        );
         assert_eq!(Provenance::read(&tmp.path().join("none")).unwrap(), None);
     }
 }

@@ -210,6 +210,8 @@ pub struct ResultsDir {
     rows_path: PathBuf,
     shard: Option<Shard>,
     runs: Mutex<File>,
+    failures_path: PathBuf,
+    failures: Mutex<Option<File>>,
     /// The runs already in the rows file.
     pub done: HashSet<RunId>,
     /// Duplicated rows found (and dropped) when resuming.
@@ -326,8 +328,14 @@ impl ResultsDir {
             .append(true)
             .open(&rows_path)
             .map_err(io(&rows_path))?;
+        // The failures of this attempt only: the failed runs of an earlier one are not in
+        // the rows, so they run again, and fail again or not.
+        let failures_path = failures_path(&rows_path);
+        remove_if_present(&failures_path)?;
         Ok(ResultsDir {
             dir: dir.to_path_buf(),
+            failures_path,
+            failures: Mutex::new(None),
             rows_path,
             shard: spec.shard,
             runs: Mutex::new(file),
@@ -351,6 +359,45 @@ impl ResultsDir {
         f.flush().map_err(io(&self.rows_path))
     }
 
+    /// Records a run whose algorithm failed (appended to `failures.csv`, or the shard's
+    /// `I-of-N.failures.csv`, at once): its cell, seed, algorithm, robot, round and what
+    /// happened.
+    pub fn fail(
+        &self,
+        cell: &crate::Cell,
+        seed: u64,
+        failure: &monoculus_engine::RunFailure,
+    ) -> Result<(), ResultsError> {
+        let mut f = self.failures.lock().unwrap_or_else(|p| p.into_inner());
+        if f.is_none() {
+            let mut file = OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(&self.failures_path)
+                .map_err(io(&self.failures_path))?;
+            file.write_all(&super::rows::line_of(FAILURE_COLUMNS))
+                .map_err(io(&self.failures_path))?;
+            *f = Some(file);
+        }
+        let row = [
+            cell.key.clone(),
+            seed.to_string(),
+            cell.algorithm().name().to_string(),
+            failure.robot.to_string(),
+            failure.round.to_string(),
+            failure.message.clone(),
+        ];
+        let file = f.as_mut().expect("opened above");
+        file.write_all(&super::rows::line_of(&row))
+            .map_err(io(&self.failures_path))?;
+        file.flush().map_err(io(&self.failures_path))
+    }
+
+    /// The file failed runs are recorded in.
+    pub fn failures_path(&self) -> &Path {
+        &self.failures_path
+    }
+
     /// A whole run: writes `summary.csv` from every row, and, once every run of the
     /// experiment is there, rewrites `runs.csv` sorted by cell and seed (the same file
     /// whatever order runs finished in). A shard writes nothing more: `merge` does.
@@ -368,6 +415,19 @@ impl ResultsDir {
             }
         }
         Ok(())
+    }
+}
+
+/// The columns of `failures.csv`.
+pub const FAILURE_COLUMNS: [&str; 6] = ["cell", "seed", "algorithm", "robot", "round", "message"];
+
+/// The failures file beside a rows file: `runs.csv` -> `failures.csv`,
+/// `shards/0-of-4.csv` -> `shards/0-of-4.failures.csv`.
+pub fn failures_path(rows: &Path) -> PathBuf {
+    if rows.file_name().is_some_and(|n| n == "runs.csv") {
+        rows.with_file_name("failures.csv")
+    } else {
+        rows.with_extension("failures.csv")
     }
 }
 

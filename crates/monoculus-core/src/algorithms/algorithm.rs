@@ -1,0 +1,187 @@
+//! [`Algorithm`]: what one activation of a robot decides, the trait every algorithm
+//! implements, the paper's and a user's alike.
+
+use std::fmt;
+
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+use super::{Decision, Observation, Sensing};
+use crate::geometry::Point;
+use crate::rng::Stream;
+
+/// When a run has converged (SPEC section 6; config `stop.criterion`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StopCriterion {
+    /// No robot would move if activated.
+    Quiescent,
+    /// Every pair of robots is within the locality constant c.
+    Diameter,
+    /// Either of the two above (ConvergeLocality's default: on a line the two end robots
+    /// keep stepping forever while staying within c).
+    QuiescentOrDiameter,
+    /// The bounding box extends at most 2b on every axis.
+    Box,
+}
+
+impl StopCriterion {
+    /// The config name.
+    pub fn name(self) -> &'static str {
+        match self {
+            StopCriterion::Quiescent => "quiescent",
+            StopCriterion::Diameter => "diameter",
+            StopCriterion::QuiescentOrDiameter => "quiescent_or_diameter",
+            StopCriterion::Box => "box",
+        }
+    }
+
+    /// Whether quiescence is part of the criterion.
+    pub fn checks_quiescence(self) -> bool {
+        matches!(
+            self,
+            StopCriterion::Quiescent | StopCriterion::QuiescentOrDiameter
+        )
+    }
+}
+
+/// The parameters of an algorithm that has none: `[algorithm.params]` must be empty.
+///
+/// ```
+/// use monoculus_core::algorithms::NoParams;
+///
+/// let none: NoParams = serde::Deserialize::deserialize(
+///     serde::de::value::MapDeserializer::<_, serde::de::value::Error>::new(
+///         std::iter::empty::<(&str, &str)>(),
+///     ),
+/// )
+/// .unwrap();
+/// assert_eq!(none, NoParams {});
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoParams {}
+
+/// An algorithm for monoculus robots: what one robot decides in one activation from what
+/// it senses.
+///
+/// A type implementing it is the algorithm with its parameters; the engine runs it under
+/// every scheduler, error model, fault model, in the plane and in space, and every
+/// command (`run`, `trace`, `replay`, `slurm`, ...) takes it by [`Algorithm::NAME`] once a
+/// binary registers it. What a robot may sense is fixed by [`Algorithm::Sensing`]: the
+/// [`Observation`] `decide` gets has only the queries that model grants, so an
+/// algorithm of the `ld` model cannot ask for positions or distances (the compiler
+/// refuses):
+///
+/// ```compile_fail
+/// use monoculus_core::algorithms::{Ld, Observation};
+/// use monoculus_core::geometry::Point;
+///
+/// fn peek<V: Point>(obs: &Observation<'_, Ld, V>) -> Vec<V> {
+///     obs.relative_positions() // only `Observation<'_, Positions, V>` has it
+/// }
+/// ```
+///
+/// `decide` takes the algorithm by shared reference and gets the robot's own state and
+/// its own random stream: an oblivious robot (`State = ()`) has nowhere to keep anything
+/// between activations, and a run's results do not depend on the number of threads.
+///
+/// ConvergeLocality (SPEC 4.1), as the crate itself implements it:
+///
+/// ```
+/// use monoculus_core::algorithms::{Algorithm, Decision, Ld, NoParams, Observation};
+/// use monoculus_core::geometry::Point;
+/// use monoculus_core::rng::Stream;
+///
+/// struct Locality;
+///
+/// impl Algorithm for Locality {
+///     const NAME: &'static str = "locality";
+///     type Sensing = Ld;
+///     type Params = NoParams;
+///     type State = ();
+///
+///     fn new(_: NoParams) -> Result<Self, String> {
+///         Ok(Locality)
+///     }
+///
+///     fn decide<V: Point>(&self, obs: &Observation<'_, Ld, V>, _: &mut (), rng: &mut Stream) -> Decision<V> {
+///         if let Some(toward) = obs.sole_visible() {
+///             return Decision::Step(toward);
+///         }
+///         match obs.random_far(rng) {
+///             Some(toward) => Decision::Step(toward),
+///             None => Decision::Stay,
+///         }
+///     }
+/// }
+/// ```
+pub trait Algorithm: Sized + Send + Sync + 'static {
+    /// The name a config's `algorithm.name` selects (snake case; one per binary).
+    const NAME: &'static str;
+
+    /// What its robots sense: [`Directions`](super::Directions) (unit directions only),
+    /// [`Ld`](super::Ld) (directions and far bits), [`Ola`](super::Ola) (directions in
+    /// the agreed axes, and the sides occupied) or [`Positions`](super::Positions)
+    /// (baselines that see positions).
+    type Sensing: Sensing;
+
+    /// Its parameters, read from the config's `[algorithm.params]` (any key of which
+    /// may be a list, swept as any other key): a serde struct of the algorithm's own,
+    /// whose `Default` gives the values of the keys left out; [`NoParams`] for none.
+    /// Unknown keys are refused whatever the struct says.
+    type Params: Serialize + DeserializeOwned + Default + Clone + fmt::Debug + Send + Sync + 'static;
+
+    /// What a robot keeps between its activations: `()` (or any zero-sized type) for
+    /// oblivious robots, the paper's setting; otherwise a small value every robot starts
+    /// with as `Default` and `decide` may change. A robot with a state also keeps its
+    /// local frame for the whole run (SPEC section 10), as the termination algorithm's
+    /// robots keep their axes.
+    type State: Clone + Default + PartialEq + fmt::Debug + Send + Sync + 'static;
+
+    /// The stop criterion a config's `stop.criterion = "default"` means for it.
+    const STOP: StopCriterion = StopCriterion::QuiescentOrDiameter;
+
+    /// Whether its guarantees assume the paper's c >= 2b (a config with c < 2b then
+    /// gets a warning).
+    const ASSUMES_C_AT_LEAST_2B: bool = false;
+
+    /// `Some(reason)` if it is defined in the plane only (a config with `dim = 3` is
+    /// refused with the reason).
+    const PLANE_ONLY: Option<&'static str> = None;
+
+    /// A promise for [`Ola`](super::Ola) algorithms: a robot that sees robots beyond both
+    /// sides of every agreed axis decides [`Decision::Stay`] and leaves its state as it
+    /// is. The engine then skips such robots without activating them, read off the
+    /// swarm's bounding box (without observation errors, limited range or fat robots,
+    /// where the box tells nothing), as it does for ConvergeQuadrant's inner robots.
+    /// Ignored for the other models.
+    const STAYS_WHEN_SURROUNDED: bool = false;
+
+    /// The algorithm with these parameters, or why they are not valid (one line; the
+    /// config error names `algorithm.params`).
+    fn new(params: Self::Params) -> Result<Self, String>;
+
+    /// One activation: the robot's observation in its local frame, its state and its
+    /// random stream; the decision, in the same local frame. A step's direction must be
+    /// a unit vector (a run whose algorithm returns another, or NaN, stops as failed,
+    /// naming the algorithm, the robot and the round).
+    fn decide<V: Point>(
+        &self,
+        obs: &Observation<'_, Self::Sensing, V>,
+        state: &mut Self::State,
+        rng: &mut Stream,
+    ) -> Decision<V>;
+
+    /// Whether a robot with this state has terminated, for algorithms that terminate:
+    /// `runs.csv`'s `terminated` counts the robots for which it is `Some(true)` at the
+    /// end of a run (empty when it is `None`, the default).
+    fn terminated(_state: &Self::State, _dim: usize) -> Option<bool> {
+        None
+    }
+
+    /// A byte of the state a replay shows for each robot (the termination algorithm:
+    /// its bits), if any.
+    fn shown_bits(_state: &Self::State) -> Option<u8> {
+        None
+    }
+}
