@@ -1,0 +1,150 @@
+//! monoculus for your own algorithms.
+//!
+//! Implement [`Algorithm`](prelude::Algorithm) for a type of your crate, register it with
+//! [`App`], and your binary has the whole `monoculus` command line (`run`, `check`,
+//! `trace`, `look`, `replay`, `plot`, `table`, `merge`, `slurm`, `stress`,
+//! `impossibility`) with your algorithm beside the paper's: every scheduler, error and
+//! fault model, the plane and space, replays and Slurm arrays (whose scripts call your
+//! binary).
+//!
+//! ```no_run
+//! use monoculus::prelude::*;
+//!
+//! /// Move toward a uniformly random visible robot.
+//! struct TowardAnyone;
+//!
+//! impl Algorithm for TowardAnyone {
+//!     const NAME: &'static str = "toward_anyone";
+//!     type Sensing = Directions;
+//!     type Params = NoParams;
+//!     type State = ();
+//!
+//!     fn new(_: NoParams) -> Result<Self, String> {
+//!         Ok(TowardAnyone)
+//!     }
+//!
+//!     fn decide<V: Point>(
+//!         &self,
+//!         obs: &Observation<'_, Directions, V>,
+//!         _: &mut (),
+//!         rng: &mut Stream,
+//!     ) -> Decision<V> {
+//!         obs.random_visible(rng).map_or(Decision::Stay, Decision::Step)
+//!     }
+//! }
+//!
+//! fn main() -> std::process::ExitCode {
+//!     App::new().algorithm::<TowardAnyone>().run()
+//! }
+//! ```
+//!
+//! The guide, from an empty crate to a sweep and a replay: `docs/algorithms.md` in the
+//! repository.
+
+use std::process::ExitCode;
+
+pub use monoculus_core::algorithms::Algorithm;
+pub use monoculus_engine::{AlgorithmBox, SimConfig, Simulation};
+pub use monoculus_experiments::{Experiment, Registry};
+
+/// What an algorithm's author needs: the trait and what its methods take and return.
+pub mod prelude {
+    pub use crate::App;
+    pub use monoculus_core::algorithms::{
+        Algorithm, Decision, Directions, Ld, Model, NoParams, Observation, Ola, Positions,
+        StopCriterion, along, empty_sides,
+    };
+    pub use monoculus_core::geometry::Point;
+    pub use monoculus_core::observe::{Seen, Side};
+    pub use monoculus_core::rng::Stream;
+}
+
+/// A monoculus command line with your algorithms: [`App::new`] holds the paper's six,
+/// [`App::algorithm`] adds one of yours, [`App::run`] runs the command line.
+///
+/// ```
+/// use monoculus::App;
+/// use monoculus::prelude::*;
+///
+/// struct Still;
+///
+/// impl Algorithm for Still {
+///     const NAME: &'static str = "still";
+///     type Sensing = Ld;
+///     type Params = NoParams;
+///     type State = ();
+///     fn new(_: NoParams) -> Result<Self, String> {
+///         Ok(Still)
+///     }
+///     fn decide<V: Point>(&self, _: &Observation<'_, Ld, V>, _: &mut (), _: &mut Stream) -> Decision<V> {
+///         Decision::Stay
+///     }
+/// }
+///
+/// let app = App::new().algorithm::<Still>();
+/// assert!(app.registry().get("still").is_some());
+/// assert!(app.registry().get("converge_locality").is_some());
+/// ```
+pub struct App {
+    registry: Registry,
+    name: Option<&'static str>,
+}
+
+impl Default for App {
+    fn default() -> Self {
+        App::new()
+    }
+}
+
+impl App {
+    /// A command line with the paper's algorithms.
+    pub fn new() -> Self {
+        App {
+            registry: Registry::builtin(),
+            name: None,
+        }
+    }
+
+    /// A command line with no algorithm but yours.
+    pub fn without_builtins() -> Self {
+        App {
+            registry: Registry::new(),
+            name: None,
+        }
+    }
+
+    /// Adds `A`, which configs then select by [`Algorithm::NAME`]. A name registered
+    /// twice panics when the binary starts, naming it.
+    pub fn algorithm<A: Algorithm>(mut self) -> Self {
+        self.registry.register::<A>();
+        self
+    }
+
+    /// The name the command line calls itself in its help (default: the binary's file
+    /// name).
+    pub fn name(mut self, name: &'static str) -> Self {
+        self.name = Some(name);
+        self
+    }
+
+    /// The algorithms registered so far.
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+
+    /// Runs the command line on the process's arguments; returns its exit status (0
+    /// success, 2 bad input, 1 other failures, 130 interrupted).
+    pub fn run(self) -> ExitCode {
+        let name = self.name.unwrap_or_else(|| {
+            let exe = std::env::current_exe().ok();
+            let stem = exe
+                .as_deref()
+                .and_then(|p| p.file_stem())
+                .and_then(|s| s.to_str())
+                .unwrap_or("monoculus");
+            // clap takes a name for the life of the program.
+            Box::leak(stem.to_string().into_boxed_str())
+        });
+        monoculus_cli::main_with(name, &self.registry)
+    }
+}
