@@ -29,7 +29,7 @@ impl Algorithm for Turn {
     const PLANE_ONLY: Option<&'static str> = Some("turns in the plane");
 
     fn new(p: TurnParams) -> Result<Self, String> {
-        if !(p.angle.abs() <= std::f64::consts::PI) {
+        if p.angle.is_nan() || p.angle.abs() > std::f64::consts::PI {
             return Err(format!("angle = {}: at most pi in magnitude", p.angle));
         }
         Ok(Turn { angle: p.angle })
@@ -216,7 +216,7 @@ fn a_bad_step_or_a_panic_fails_that_run_and_the_sweep_goes_on() {
         let tmp = tempfile::tempdir().unwrap();
         let report = run_experiment(&exp, tmp.path(), Default::default(), &()).unwrap();
         let failed = report.failed.len();
-        assert!(failed >= 1 && failed < 24, "{failed} of 24 failed");
+        assert!((1..24).contains(&failed), "{failed} of 24 failed");
         assert_eq!(report.ran + failed, 24);
         let runs = std::fs::read_to_string(tmp.path().join("runs.csv")).unwrap();
         assert_eq!(runs.lines().count(), 1 + 24 - failed);
