@@ -43,9 +43,49 @@
 
 use std::process::ExitCode;
 
-pub use monoculus_core::algorithms::Algorithm;
-pub use monoculus_engine::{AlgorithmBox, SimConfig, Simulation};
-pub use monoculus_experiments::{Experiment, Registry};
+pub use monoculus_core::algorithms::{Algorithm, BadDecision};
+pub use monoculus_engine::{AlgorithmBox, RunOutcome, SimConfig, Simulation};
+pub use monoculus_experiments::{Experiment, Registry, RunOptions, SweepReport, run_experiment};
+
+/// The guide: writing an algorithm, from an empty crate to a sweep and a replay
+/// (`docs/algorithms.md`; its code is compiled and run with the crate's tests).
+#[doc = include_str!("../../../docs/algorithms.md")]
+pub mod guide {}
+
+/// One activation of `algorithm` by robot `robot` of the swarm at `positions`, for unit
+/// tests of an algorithm's rules: the paper's b = 1 and c = 2, exact lines of sight, no
+/// errors, the robot's frame and stream drawn from `seed` (a fresh state, if the
+/// algorithm keeps one). The global displacement, or `None` to stay.
+///
+/// ```
+/// use glam::DVec2;
+/// use monoculus_core::algorithms::ConvergeLocality;
+///
+/// // The end robot of three on a line sees one robot: it moves toward it.
+/// let line = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(2.0, 0.0)];
+/// let step = monoculus::activate_once(&ConvergeLocality, &line, 0, 7).unwrap();
+/// assert!((step.unwrap() - DVec2::new(1.0, 0.0)).length() < 1e-12);
+/// ```
+pub fn activate_once<A: Algorithm, V: monoculus_core::geometry::Point>(
+    algorithm: &A,
+    positions: &[V],
+    robot: usize,
+    seed: u64,
+) -> Result<Option<V>, BadDecision> {
+    use monoculus_core::algorithms::{ModelParams, activate};
+    use monoculus_core::rng::{Purpose, Stream};
+    use monoculus_core::vision::{ExactSight, VisionParams};
+    let sight = ExactSight::new(positions.to_vec(), VisionParams::for_step(1.0));
+    let mut stream = Stream::keyed(seed, Purpose::Decide, robot as u64, 0);
+    activate(
+        algorithm,
+        &ModelParams::new(1.0, 2.0),
+        &sight,
+        robot,
+        None,
+        &mut stream,
+    )
+}
 
 /// What an algorithm's author needs: the trait and what its methods take and return.
 pub mod prelude {

@@ -4,6 +4,7 @@
 //! positions. Time is counted in epochs: the shortest spans in which every robot
 //! completes at least one full cycle.
 
+mod boxes;
 mod committed;
 mod components;
 mod kept_hull;

@@ -258,8 +258,8 @@ mod tests {
     use monoculus_core::rng::Stream;
 
     use super::KeptShape;
+    use crate::asynchrony::boxes::{in_boxes, inner_boxes};
     use crate::asynchrony::kept_hull::tests::polygons;
-    use crate::asynchrony::kept_hull::{in_boxes, inner_boxes};
 
     /// A segment held by one of the boxes inside a polygon is certainly inside it
     /// exactly when every point tested alone is, and every point tested lies in the
