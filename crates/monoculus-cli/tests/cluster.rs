@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{csv_rows_without, ok, rows_without_wall, write_config};
+use common::{csv_rows_without, ok, rows_without_wall, s, write_config};
 
 const SWEEP: &str = r#"
 name = "sweep"
@@ -75,10 +75,6 @@ fn output(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
     );
     assert!(!e.contains("panicked"), "{args:?} panicked: {e}");
     (out.status.code().unwrap_or(-1), o, e)
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// Runs `monoculus slurm`'s scripts as Slurm would: every array task, then the merge.
@@ -352,7 +348,7 @@ fn rows_of_another_experiment_are_refused_when_config_toml_is_gone() {
 }
 
 #[test]
-fn a_second_process_on_a_shard_or_folder_is_refused() {
+fn a_second_process_on_a_shard_or_folder_is_fails() {
     let tmp = tempfile::tempdir().unwrap();
     let cfg = write_config(tmp.path(), SLOW);
     let out = tmp.path().join("o");
@@ -412,7 +408,7 @@ fn a_second_process_on_a_shard_or_folder_is_refused() {
 }
 
 #[test]
-fn two_plain_runs_into_one_folder_are_refused() {
+fn two_plain_runs_into_one_folder_are_fails() {
     let tmp = tempfile::tempdir().unwrap();
     let cfg = write_config(tmp.path(), SLOW);
     let out = tmp.path().join("o");

@@ -10,20 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{monoculus, ok};
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// Exit status 2 and a one-line message: the message.
-fn refused(args: &[&str]) -> String {
-    let out = monoculus(args);
-    let e = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {e}");
-    assert_eq!(e.lines().count(), 1, "{args:?}: one line: {e}");
-    e
-}
+use common::{fails, monoculus, ok, s};
 
 /// A folder with a config whose robots come from `start.csv` and whose schedule is
 /// `schedule.csv`: two cells (n fixed by the file, two step lengths), 4 seeds.
@@ -89,7 +76,7 @@ fn an_input_file_changed_between_shards_or_before_a_resume_is_refused_by_name() 
         vec!["run", s(&cfg), "--out", s(&out), "--shard", "0/2"],
         vec!["merge", s(&out)],
     ] {
-        let e = refused(&args);
+        let e = fails(&args);
         assert!(
             e.contains("swarm.file") && e.contains("start.csv") && e.contains("has changed"),
             "{args:?}: {e}"
@@ -108,7 +95,7 @@ fn an_input_file_changed_between_shards_or_before_a_resume_is_refused_by_name() 
     let mut sched = read(&tmp.path().join("schedule.csv"));
     sched.push_str("6,2\n");
     std::fs::write(tmp.path().join("schedule.csv"), sched).unwrap();
-    let e = refused(&["run", s(&cfg), "--out", s(&whole)]);
+    let e = fails(&["run", s(&cfg), "--out", s(&whole)]);
     assert!(
         e.contains("scheduler.file") && e.contains("schedule.csv"),
         "{e}"
@@ -155,7 +142,7 @@ fn outputs_on_inputs_or_on_each_other_are_refused_and_nothing_is_touched() {
     for (extra, want) in cases {
         let mut args = base.to_vec();
         args.extend(&extra);
-        let e = refused(&args);
+        let e = fails(&args);
         assert!(e.contains(want), "{args:?}: {e}");
         assert_eq!(read(&schedule), before);
         assert!(!t.exists());
@@ -163,12 +150,12 @@ fn outputs_on_inputs_or_on_each_other_are_refused_and_nothing_is_touched() {
     // A hard link to the schedule is the schedule.
     let link = tmp.path().join("link.csv");
     std::fs::hard_link(&schedule, &link).unwrap();
-    refused(&[&base[..], &["--out", s(&t), "--schedule", s(&link)]].concat());
+    fails(&[&base[..], &["--out", s(&t), "--schedule", s(&link)]].concat());
     assert_eq!(read(&schedule), before);
     // replay and run: the config or its files are never outputs.
-    let e = refused(&["replay", s(&cfg), "--cell", "0", "--out", s(&schedule)]);
+    let e = fails(&["replay", s(&cfg), "--cell", "0", "--out", s(&schedule)]);
     assert!(e.contains("--out"), "{e}");
-    let e = refused(&[
+    let e = fails(&[
         "replay",
         s(&cfg),
         "--cell",
@@ -180,7 +167,7 @@ fn outputs_on_inputs_or_on_each_other_are_refused_and_nothing_is_touched() {
     ]);
     assert!(e.contains("two outputs"), "{e}");
     std::fs::copy(&cfg, tmp.path().join("config.toml")).unwrap();
-    let e = refused(&[
+    let e = fails(&[
         "run",
         s(&tmp.path().join("config.toml")),
         "--out",
@@ -421,7 +408,7 @@ fn merge_refuses_a_row_that_is_not_its_shards_and_writes_nothing() {
     for (edit, want) in cases {
         std::fs::write(&s0, &good).unwrap();
         edit_csv(&s0, edit);
-        let e = refused(&["merge", s(&out)]);
+        let e = fails(&["merge", s(&out)]);
         assert!(e.contains(want), "{want}: {e}");
         for f in ["runs.csv", "summary.csv", "provenance.toml"] {
             assert!(!out.join(f).exists(), "{f} written by a refused merge");
@@ -487,14 +474,14 @@ fn hostile_values_never_reach_a_script_and_quoted_ones_run_nothing() {
         ("--sbatch", "--qos=x touch PWNED"),
         ("--set", "seeds=2\ntouch PWNED"),
     ] {
-        let e = refused(&[&base[..], &["--out", s(&out), option, value]].concat());
+        let e = fails(&[&base[..], &["--out", s(&out), option, value]].concat());
         assert!(e.contains(option), "{option}: {e}");
         assert!(
             !out.join("slurm").exists(),
             "{option}: a script was written"
         );
     }
-    let e = refused(&[&base[..], &["--out", &bad_out]].concat());
+    let e = fails(&[&base[..], &["--out", &bad_out]].concat());
     assert!(e.contains("--out"), "{e}");
     // Values a script may hold, hostile to a shell: quoted, they run nothing.
     let odd = tmp.path().join("$(touch PWNED) x; `touch PWNED`");
@@ -562,7 +549,7 @@ fn positions_and_trace_files_are_read_strictly() {
         ("x,y\n0,0\n1,1.2", "does not end with a line break"),
     ] {
         std::fs::write(&pos, text).unwrap();
-        let e = refused(&["check", s(&cfg)]);
+        let e = fails(&["check", s(&cfg)]);
         assert!(e.contains(want) && e.contains("p.csv"), "{text:?}: {e}");
     }
     std::fs::write(&pos, "x,y\n0,0\n1,1.25\n").unwrap();
@@ -598,9 +585,9 @@ fn positions_and_trace_files_are_read_strictly() {
         "--out",
         s(&t),
     ]);
-    let e = refused(&["plot", s(&t)]);
+    let e = fails(&["plot", s(&t)]);
     assert!(e.contains("belongs to another run"), "{e}");
-    let e = refused(&[
+    let e = fails(&[
         "replay",
         s(&tmp.path().join("t.positions.csv")),
         "--out",
@@ -635,7 +622,7 @@ fn clocks_that_could_overflow_huge_configs_and_long_values_are_refused_at_once()
             format!("{base}\n[scheduler]\nkind = \"async\"\n{timing}\n"),
         )
         .unwrap();
-        let e = refused(&["check", s(&cfg)]);
+        let e = fails(&["check", s(&cfg)]);
         assert!(e.contains(key), "{e}");
     }
     std::fs::write(
@@ -643,11 +630,11 @@ fn clocks_that_could_overflow_huge_configs_and_long_values_are_refused_at_once()
         format!("{base}\n[scheduler]\nkind = \"async\"\nidle = {{ kind = \"fixed\", ticks = 1000000000 }}\n[stop]\nmax_rounds = 10000000000\n"),
     )
     .unwrap();
-    assert!(refused(&["check", s(&cfg)]).contains("stop.max_rounds"));
+    assert!(fails(&["check", s(&cfg)]).contains("stop.max_rounds"));
     // The most runs an experiment may have is what one machine sorts and summarises
     // at the end of a sweep (10^7; 10^8 needed over 100 GB).
     std::fs::write(&cfg, base.replace("seeds = 4", "seeds = 100000000")).unwrap();
-    let e = refused(&["check", s(&cfg)]);
+    let e = fails(&["check", s(&cfg)]);
     assert!(
         e.contains("seeds: 100000000 seeds x 1 cells: at most 10000000 runs"),
         "{e}"
@@ -655,7 +642,7 @@ fn clocks_that_could_overflow_huge_configs_and_long_values_are_refused_at_once()
     // A config of 50 MB: refused at once, in a short message.
     let big = tmp.path().join("big.toml");
     std::fs::write(&big, "#".repeat(50 << 20)).unwrap();
-    let e = refused(&["check", s(&big)]);
+    let e = fails(&["check", s(&big)]);
     assert!(e.len() < 200, "{e}");
     // No message quotes more than about 100 characters of a value.
     let long = "y".repeat(20_000);
@@ -677,7 +664,7 @@ fn clocks_that_could_overflow_huge_configs_and_long_values_are_refused_at_once()
             text
         };
         std::fs::write(&cfg, text).unwrap();
-        let e = refused(&["check", s(&cfg)]);
+        let e = fails(&["check", s(&cfg)]);
         assert!(
             e.contains(key) && e.len() < 300,
             "{} characters: {}",
@@ -687,9 +674,9 @@ fn clocks_that_could_overflow_huge_configs_and_long_values_are_refused_at_once()
     }
     let pos = tmp.path().join("p.csv");
     std::fs::write(&pos, format!("x,y\n0,{long}\n")).unwrap();
-    let e = refused(&["look", s(&pos), "--robot", "0"]);
+    let e = fails(&["look", s(&pos), "--robot", "0"]);
     assert!(e.len() < 300, "{}", e.len());
-    let e = refused(&["check", s(&cfg), "--set", &format!("swarm.init={long}")]);
+    let e = fails(&["check", s(&cfg), "--set", &format!("swarm.init={long}")]);
     assert!(e.len() < 300, "{}", e.len());
 }
 
@@ -722,7 +709,7 @@ fn a_sweep_of_fifty_thousand_values_is_checked_in_linear_time() {
     // A repeated value is found in the same pass.
     let dup = read(&cfg).replace("50000.5]", "50000.5, 17.5]");
     std::fs::write(&cfg, dup).unwrap();
-    assert!(refused(&["check", s(&cfg)]).contains("the list has 17.5 twice"));
+    assert!(fails(&["check", s(&cfg)]).contains("the list has 17.5 twice"));
 }
 
 // 8. Distinct outputs get distinct names.
@@ -764,7 +751,7 @@ fn untagged_values_and_deep_nesting_say_what_is_allowed_and_where() {
             format!("{base}\n[faults]\nkind = \"crash\"\ncount = 1\nat = {at}\n"),
         )
         .unwrap();
-        let e = refused(&["check", s(&cfg)]);
+        let e = fails(&["check", s(&cfg)]);
         assert!(
             e.contains(
                 "c.toml:16: faults.at: expected a round (a whole number, at least 0) or \"random\""
@@ -775,7 +762,7 @@ fn untagged_values_and_deep_nesting_say_what_is_allowed_and_where() {
     }
     let deep = format!("name = \"d\"\n[{}]\n", vec!["a"; 100_000].join("."));
     std::fs::write(&cfg, deep).unwrap();
-    let e = refused(&["check", s(&cfg)]);
+    let e = fails(&["check", s(&cfg)]);
     assert!(
         e.contains("c.toml:2: nested about 100000 levels deep"),
         "{}",
@@ -783,6 +770,6 @@ fn untagged_values_and_deep_nesting_say_what_is_allowed_and_where() {
     );
     let deep = format!("name = \"d\"\nx = {}{}\n", "[".repeat(500), "]".repeat(500));
     std::fs::write(&cfg, deep).unwrap();
-    let e = refused(&["check", s(&cfg)]);
+    let e = fails(&["check", s(&cfg)]);
     assert!(e.contains("c.toml:2:") && e.contains("nested"), "{e}");
 }

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{monoculus, ok};
+use common::{fails, monoculus, ok};
 
 fn configs(name: &str) -> String {
     format!("{}/../../configs/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -108,14 +108,6 @@ fn large_runs_stay_small_and_say_how_they_were_thinned() {
     assert!(html.contains("1500 of 3000 robots drawn (every 2nd)"));
     assert!(html.contains("nd round kept as a frame"));
     assert!(html.contains("Looks are recorded for runs of at most"));
-}
-
-fn fails(args: &[&str]) -> String {
-    let out = monoculus(args);
-    let stderr = String::from_utf8(out.stderr).unwrap();
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
-    stderr
 }
 
 #[test]

@@ -6,24 +6,10 @@
 mod common;
 
 use std::io::{BufRead, BufReader};
-use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use common::{csv_rows_without, monoculus, ok, write_config};
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// Exit status 2 and a one-line message; the message.
-fn fails(args: &[&str]) -> String {
-    let out = monoculus(args);
-    let e = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {e}");
-    assert_eq!(e.lines().count(), 1, "{args:?}: one line: {e}");
-    e
-}
+use common::{csv_rows_without, fails, monoculus, ok, s, write_config};
 
 /// Many quick runs: a runs.csv of 20,000 rows in well under a second.
 const MANY: &str = r#"
@@ -230,7 +216,7 @@ fn corrupted_result_files_are_named_by_line_and_column() {
 }
 
 #[test]
-fn a_trace_naming_a_robot_outside_the_swarm_is_refused() {
+fn a_trace_naming_a_robot_outside_the_swarm_is_fails() {
     let tmp = tempfile::tempdir().unwrap();
     let cfg = write_config(tmp.path(), SMALL);
     let trace = tmp.path().join("t.csv");

@@ -134,6 +134,16 @@ fn every_command_takes_it_and_threads_change_nothing() {
             .unwrap()
             .contains("diagonal_corners")
     );
+    let stressed = ok(&[
+        "stress",
+        "--n",
+        "400",
+        "--rounds",
+        "2",
+        "--algorithm",
+        "diagonal_corners",
+    ]);
+    assert!(stressed.contains("activations_per_s="), "{stressed}");
     // Its Slurm scripts call this binary, not `monoculus`.
     let out = tmp.path().join("cluster");
     ok(&[

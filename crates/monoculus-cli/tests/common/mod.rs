@@ -26,6 +26,21 @@ pub fn reported(stdout: &str, key: &str) -> usize {
         .unwrap_or_else(|| panic!("no {key}= in {stdout}"))
 }
 
+/// Runs `monoculus` with `args`, which must fail as bad input: exit status 2 and a
+/// one-line message; the message.
+pub fn fails(args: &[&str]) -> String {
+    let out = monoculus(args);
+    let e = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {e}");
+    assert_eq!(e.lines().count(), 1, "{args:?}: one line: {e}");
+    e
+}
+
+/// A path as an argument.
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
 /// Runs `monoculus` with `args`, which must succeed; its stdout.
 pub fn ok(args: &[&str]) -> String {
     let out = monoculus(args);
