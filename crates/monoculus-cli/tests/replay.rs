@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{fails, monoculus, ok};
+use common::{fails, ok};
 
 fn configs(name: &str) -> String {
     format!("{}/../../configs/{name}", env!("CARGO_MANIFEST_DIR"))
