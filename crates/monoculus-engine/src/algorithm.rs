@@ -69,7 +69,7 @@ impl<P: IndexPoint, A: Algorithm> Install<P> for Held<A> {
 pub struct AlgorithmBox {
     plane: Arc<dyn Install<DVec2>>,
     space: Arc<dyn Install<DVec3>>,
-    name: &'static str,
+    name: Arc<str>,
     model: Model,
     stop: StopCriterion,
     assumes_c_at_least_2b: bool,
@@ -81,11 +81,12 @@ pub struct AlgorithmBox {
 impl AlgorithmBox {
     /// `algorithm`, ready for a run.
     pub fn new<A: Algorithm>(algorithm: A) -> Self {
+        let name: Arc<str> = algorithm.name().into();
         let held = Arc::new(Held(Arc::new(algorithm)));
         AlgorithmBox {
             plane: held.clone(),
             space: held,
-            name: A::NAME,
+            name,
             model: <A::Sensing as Sensing>::MODEL,
             stop: A::STOP,
             assumes_c_at_least_2b: A::ASSUMES_C_AT_LEAST_2B,
@@ -95,9 +96,9 @@ impl AlgorithmBox {
         }
     }
 
-    /// Its name ([`Algorithm::NAME`]).
-    pub fn name(&self) -> &'static str {
-        self.name
+    /// Its name ([`Algorithm::name`]).
+    pub fn name(&self) -> &str {
+        &self.name
     }
 
     /// Its sensing model.

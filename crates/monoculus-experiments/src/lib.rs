@@ -4,6 +4,7 @@
 
 pub mod config;
 pub mod limits;
+pub mod look;
 pub mod output;
 pub mod positions;
 pub mod registry;
@@ -89,5 +90,5 @@ pub fn one_line(text: &str) -> String {
 }
 pub use runner::{
     Progress, RunOptions, RunProgress, SweepError, SweepReport, run_experiment, run_one,
-    run_one_with,
+    run_one_stoppable, run_one_with,
 };

@@ -5,6 +5,8 @@ use monoculus_core::algorithms::{
     Algorithm, AngleBisector, CenterOfGravity, ConvergeLocality, ConvergeQuadrant,
     ConvergeQuadrantTermination, Median, Model, Sensing, StopCriterion,
 };
+use std::sync::Arc;
+
 use monoculus_engine::AlgorithmBox;
 
 /// Why `[algorithm.params]` does not make an algorithm: the key at fault (relative to
@@ -17,19 +19,24 @@ pub struct ParamsError {
     pub message: String,
 }
 
+/// How an entry makes its algorithm from `[algorithm.params]`: the algorithm and its
+/// parameters in full.
+pub type Make =
+    Arc<dyn Fn(&toml::Table) -> Result<(AlgorithmBox, toml::Table), ParamsError> + Send + Sync>;
+
 /// One registered algorithm.
 #[derive(Clone)]
 pub struct Entry {
-    name: &'static str,
+    name: String,
     model: Model,
     stop: StopCriterion,
-    make: fn(&toml::Table) -> Result<(AlgorithmBox, toml::Table), ParamsError>,
+    make: Make,
 }
 
 impl Entry {
     /// Its name.
-    pub fn name(&self) -> &'static str {
-        self.name
+    pub fn name(&self) -> &str {
+        &self.name
     }
 
     /// Its sensing model.
@@ -67,6 +74,7 @@ fn unknown_key(given: &toml::Table, known: &toml::Table, prefix: &str) -> Option
     })
 }
 
+/// `A` with the parameters `given` (`[algorithm.params]`), read strictly.
 fn make<A: Algorithm>(given: &toml::Table) -> Result<(AlgorithmBox, toml::Table), ParamsError> {
     let params: A::Params = serde_path_to_error::deserialize(toml::Value::Table(given.clone()))
         .map_err(|e| {
@@ -154,7 +162,24 @@ impl Registry {
 
     /// Adds `A`, or says why not (its name is taken, or not a plain snake-case name).
     pub fn try_register<A: Algorithm>(&mut self) -> Result<&mut Self, String> {
-        let name = A::NAME;
+        self.try_register_with(
+            A::NAME,
+            <A::Sensing as Sensing>::MODEL,
+            A::STOP,
+            Arc::new(make::<A>),
+        )
+    }
+
+    /// Adds an algorithm named at run time (bindings to other languages, whose
+    /// algorithms are values of one Rust type): its name, model, default stop criterion
+    /// and how it is made from `[algorithm.params]`.
+    pub fn try_register_with(
+        &mut self,
+        name: &str,
+        model: Model,
+        stop: StopCriterion,
+        make: Make,
+    ) -> Result<&mut Self, String> {
         if name.is_empty()
             || !name
                 .chars()
@@ -170,10 +195,10 @@ impl Registry {
             ));
         }
         self.entries.push(Entry {
-            name,
-            model: <A::Sensing as Sensing>::MODEL,
-            stop: A::STOP,
-            make: make::<A>,
+            name: name.to_string(),
+            model,
+            stop,
+            make,
         });
         Ok(self)
     }
@@ -184,8 +209,8 @@ impl Registry {
     }
 
     /// Every registered name, in the order registered.
-    pub fn names(&self) -> Vec<&'static str> {
-        self.entries.iter().map(|e| e.name).collect()
+    pub fn names(&self) -> Vec<&str> {
+        self.entries.iter().map(|e| e.name.as_str()).collect()
     }
 }
 

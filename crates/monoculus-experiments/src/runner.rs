@@ -2,8 +2,8 @@
 //! moment its run finishes.
 
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use glam::{DVec2, DVec3};
@@ -23,6 +23,10 @@ pub struct RunOptions {
     pub shard: Option<Shard>,
     /// The batch job, for provenance.
     pub job: Option<String>,
+    /// Set from outside (a binding's Ctrl-C) to stop the sweep: runs not started are
+    /// not started, running ones stop at the end of their round and are not written
+    /// (so the folder resumes them).
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// What a sweep did.
@@ -43,6 +47,9 @@ pub struct SweepReport {
     pub failed: Vec<(String, u64, String)>,
     /// Where the failures were recorded.
     pub failures_path: PathBuf,
+    /// Whether the sweep was interrupted ([`RunOptions::interrupt`]) before every run
+    /// was done.
+    pub interrupted: bool,
 }
 
 /// Why a sweep failed.
@@ -115,20 +122,32 @@ pub fn run_one_with(
     seed: u64,
     on_round: &mut dyn FnMut(u64, f64),
 ) -> Result<(RunOutcome, f64), EngineError> {
+    run_one_stoppable(cell, seed, on_round, None)
+}
+
+/// [`run_one_with`], stopped at the end of a round once `interrupt` is set.
+pub fn run_one_stoppable(
+    cell: &Cell,
+    seed: u64,
+    on_round: &mut dyn FnMut(u64, f64),
+    interrupt: Option<&Arc<AtomicBool>>,
+) -> Result<(RunOutcome, f64), EngineError> {
     fn go<P: IndexPoint>(
         cell: &Cell,
         seed: u64,
         on_round: &mut dyn FnMut(u64, f64),
+        interrupt: Option<&Arc<AtomicBool>>,
     ) -> Result<RunOutcome, EngineError> {
-        Ok(
-            Simulation::<P>::new(cell.sim_config(seed), cell.initial_positions(seed))?
-                .run_with(|r| on_round(r.round, r.diameter)),
-        )
+        let mut sim = Simulation::<P>::new(cell.sim_config(seed), cell.initial_positions(seed))?;
+        if let Some(flag) = interrupt {
+            sim.set_interrupt(flag.clone());
+        }
+        Ok(sim.run_with(|r| on_round(r.round, r.diameter)))
     }
     let start = Instant::now();
     let outcome = match cell.dim() {
-        3 => go::<DVec3>(cell, seed, on_round)?,
-        _ => go::<DVec2>(cell, seed, on_round)?,
+        3 => go::<DVec3>(cell, seed, on_round, interrupt)?,
+        _ => go::<DVec2>(cell, seed, on_round, interrupt)?,
     };
     Ok((outcome, start.elapsed().as_secs_f64() * 1e3))
 }
@@ -138,9 +157,10 @@ fn run_reported(
     cell: &Cell,
     seed: u64,
     progress: &dyn Progress,
+    interrupt: Option<&Arc<AtomicBool>>,
 ) -> Result<(RunOutcome, f64), EngineError> {
     let Some(every) = progress.interval() else {
-        return run_one(cell, seed);
+        return run_one_stoppable(cell, seed, &mut |_, _| {}, interrupt);
     };
     let unit = match cell.spec.scheduler.kind {
         SchedulerKind::Async => "epoch",
@@ -156,15 +176,20 @@ fn run_reported(
         diameter,
         elapsed: start.elapsed(),
     };
-    let (outcome, ms) = run_one_with(cell, seed, &mut |round, diameter| {
-        // One clock read a round: a few tens of nanoseconds against rounds of at least
-        // microseconds.
-        let now = Instant::now();
-        if now >= due {
-            due = now + every;
-            progress.round(&at(round, diameter));
-        }
-    })?;
+    let (outcome, ms) = run_one_stoppable(
+        cell,
+        seed,
+        &mut |round, diameter| {
+            // One clock read a round: a few tens of nanoseconds against rounds of at least
+            // microseconds.
+            let now = Instant::now();
+            if now >= due {
+                due = now + every;
+                progress.round(&at(round, diameter));
+            }
+        },
+        interrupt,
+    )?;
     progress.finished(
         &at(outcome.rounds, outcome.final_diameter),
         outcome.converged,
@@ -200,18 +225,22 @@ pub fn run_experiment(
     let failure: Mutex<Option<SweepError>> = Mutex::new(None);
     let failed: Mutex<Vec<(RunId, String)>> = Mutex::new(Vec::new());
     progress.runs(0, pending.len());
+    let interrupt = options.interrupt.as_ref();
+    let stopped = || interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
     pending.par_iter().with_max_len(1).for_each(|run| {
-        if failure.lock().map(|f| f.is_some()).unwrap_or(true) {
+        if failure.lock().map(|f| f.is_some()).unwrap_or(true) || stopped() {
             return;
         }
         let cell = &exp.cells[run.cell];
-        let result = run_reported(cell, run.seed, progress)
+        let result = run_reported(cell, run.seed, progress, interrupt)
             .map_err(|cause| SweepError::Engine {
                 cell: cell.key.clone(),
                 seed: run.seed,
                 cause,
             })
             .and_then(|(outcome, ms)| match &outcome.failure {
+                // Stopped from outside: not a result; a rerun resumes it.
+                _ if outcome.interrupted => Ok(false),
                 // The algorithm failed: the run is recorded as such, the sweep goes on.
                 Some(f) => {
                     results.fail(cell, run.seed, f)?;
@@ -219,16 +248,23 @@ pub fn run_experiment(
                         .lock()
                         .unwrap_or_else(|p| p.into_inner())
                         .push((*run, f.to_string()));
-                    Ok(())
+                    Ok(true)
                 }
-                None => Ok(results.append(&run_row(exp, cell, run.seed, &outcome, ms))?),
+                None => {
+                    results.append(&run_row(exp, cell, run.seed, &outcome, ms))?;
+                    Ok(true)
+                }
             });
-        if let Err(e) = result {
-            let mut f = failure.lock().unwrap_or_else(|p| p.into_inner());
-            f.get_or_insert(e);
-            return;
+        match result {
+            Err(e) => {
+                let mut f = failure.lock().unwrap_or_else(|p| p.into_inner());
+                f.get_or_insert(e);
+            }
+            Ok(true) => {
+                progress.runs(finished.fetch_add(1, Ordering::SeqCst) + 1, pending.len());
+            }
+            Ok(false) => {}
         }
-        progress.runs(finished.fetch_add(1, Ordering::SeqCst) + 1, pending.len());
     });
     if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
         results.finish(exp)?;
@@ -242,11 +278,12 @@ pub fn run_experiment(
         dropped_duplicates: results.dropped_duplicates,
         total,
         skipped,
-        ran: pending.len() - failed.len(),
+        ran: finished.load(Ordering::SeqCst) - failed.len(),
         failed: failed
             .into_iter()
             .map(|(r, m)| (exp.cells[r.cell].key.clone(), r.seed, m))
             .collect(),
         failures_path: results.failures_path().to_path_buf(),
+        interrupted: stopped(),
     })
 }

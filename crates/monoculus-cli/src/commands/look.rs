@@ -1,11 +1,8 @@
 use std::path::PathBuf;
 
 use glam::{DVec2, DVec3};
-use monoculus_core::observe::inspect;
-use monoculus_core::vision::VisionParams;
-use monoculus_engine::{IndexPoint, IndexedSight};
+use monoculus_engine::IndexPoint;
 use monoculus_experiments::positions::read_positions;
-use monoculus_experiments::results::num;
 
 use super::Failure;
 
@@ -15,6 +12,8 @@ enum Model {
     Ld,
     /// Orthogonal Line Agreement: direction and side of each agreed axis.
     Ola,
+    /// Directions only.
+    Directions,
 }
 
 #[derive(clap::Args, Debug)]
@@ -62,30 +61,10 @@ pub fn look(args: LookArgs) -> Result<(), Failure> {
 }
 
 fn look_in<P: IndexPoint>(pts: Vec<P>, args: &LookArgs) -> String {
-    let axes = &["x", "y", "z"][..P::DIM];
-    let sight = IndexedSight::new(pts, VisionParams::default());
-    let mut out = String::new();
-    let header: Vec<String> = match args.model {
-        Model::Ld => ["index".to_string(), "far".to_string()]
-            .into_iter()
-            .chain(axes.iter().map(|a| format!("d{a}")))
-            .collect(),
-        Model::Ola => std::iter::once("index".to_string())
-            .chain(axes.iter().map(|a| format!("side_{a}")))
-            .chain(axes.iter().map(|a| format!("d{a}")))
-            .collect(),
+    let model = match args.model {
+        Model::Ld => monoculus_core::algorithms::Model::Ld,
+        Model::Ola => monoculus_core::algorithms::Model::Ola,
+        Model::Directions => monoculus_core::algorithms::Model::Directions,
     };
-    out.push_str(&header.join(","));
-    out.push('\n');
-    for seen in inspect(&sight, args.robot, args.locality) {
-        let mut row = vec![seen.index.to_string()];
-        match args.model {
-            Model::Ld => row.push(seen.far.to_string()),
-            Model::Ola => row.extend(seen.sides.iter().map(i8::to_string)),
-        }
-        row.extend((0..P::DIM).map(|k| num(seen.direction.axis(k))));
-        out.push_str(&row.join(","));
-        out.push('\n');
-    }
-    out
+    monoculus_experiments::look::look_csv(pts, args.robot, model, args.locality)
 }

@@ -164,6 +164,7 @@ pub fn run(args: RunArgs, registry: &monoculus_experiments::Registry) -> Result<
                 force: args.force,
                 shard,
                 job: job_id(&env_var),
+                interrupt: None,
             },
             &progress,
         )

@@ -157,6 +157,13 @@ pub trait Algorithm: Sized + Send + Sync + 'static {
     /// Ignored for the other models.
     const STAYS_WHEN_SURROUNDED: bool = false;
 
+    /// Whether the activations of a round (ASYNC: of a tick) are decided together, in
+    /// one call of [`Algorithm::decide_together`], instead of one by one with
+    /// [`Algorithm::decide`]: for bindings whose call is dear (an algorithm written
+    /// with numpy decides a whole round at once). They run on one thread, in robot
+    /// order.
+    const TOGETHER: bool = false;
+
     /// The algorithm with these parameters, or why they are not valid (one line; the
     /// config error names `algorithm.params`).
     fn new(params: Self::Params) -> Result<Self, String>;
@@ -171,6 +178,28 @@ pub trait Algorithm: Sized + Send + Sync + 'static {
         state: &mut Self::State,
         rng: &mut Stream,
     ) -> Decision<V>;
+
+    /// The activations of a round (ASYNC: a tick) at once, for algorithms that set
+    /// [`Algorithm::TOGETHER`]: one observation, state and stream per activation, in
+    /// robot order; one decision each, in the same order. By default, `decide` for each.
+    fn decide_together<V: Point>(
+        &self,
+        obs: &[Observation<'_, Self::Sensing, V>],
+        states: &mut [&mut Self::State],
+        rngs: &mut [&mut Stream],
+    ) -> Vec<Decision<V>> {
+        obs.iter()
+            .zip(states.iter_mut())
+            .zip(rngs.iter_mut())
+            .map(|((o, s), r)| self.decide(o, s, r))
+            .collect()
+    }
+
+    /// The name of this instance: [`Algorithm::NAME`], unless the type serves algorithms
+    /// named at run time (bindings to other languages), which give theirs here.
+    fn name(&self) -> &str {
+        Self::NAME
+    }
 
     /// Whether a robot with this state has terminated, for algorithms that terminate:
     /// `runs.csv`'s `terminated` counts the robots for which it is `Some(true)` at the

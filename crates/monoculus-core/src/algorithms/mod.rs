@@ -4,6 +4,7 @@
 //! robot's frame, build its observation, run the algorithm, check the decision and map
 //! it back to the global frame.
 
+mod activation;
 mod algorithm;
 mod angle_bisector;
 mod center_of_gravity;
@@ -14,6 +15,10 @@ mod observation;
 mod termination;
 mod termination_bits;
 
+pub use activation::{
+    BadDecision, Pending, UNIT_TOLERANCE, activate, activate_together, certainly_stays,
+    in_algorithm, keeps_state,
+};
 pub use algorithm::{Algorithm, NoParams, StopCriterion};
 pub use angle_bisector::AngleBisector;
 pub use center_of_gravity::CenterOfGravity;
@@ -26,11 +31,7 @@ pub use observation::{
 pub use termination::ConvergeQuadrantTermination;
 pub use termination_bits::TerminationBits;
 
-use crate::errors::{ObservationErrors, Perception};
-use crate::geometry::Point;
-use crate::rng::Stream;
-use crate::vision::Sight;
-use observation::Looker;
+use crate::errors::ObservationErrors;
 
 /// What an algorithm decides, in the robot's local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -134,146 +135,6 @@ impl ModelParams {
             errors: ObservationErrors::NONE,
             target: TargetPolicy::Random,
         }
-    }
-}
-
-/// Whether an activation of `robot` by `A` is sure to decide Stay and leave its state as
-/// it is, from the bounding box alone: `A` promises it
-/// ([`Algorithm::STAYS_WHEN_SURROUNDED`]) for an OLA robot with robots beyond it on both
-/// sides of every axis, and the robot perceives without errors, unlimited and through
-/// point robots (else the box says nothing of what it sees). Its random stream is its
-/// own, so skipping the activation changes nothing else. Most robots of a
-/// ConvergeQuadrant run are such inner robots.
-pub fn certainly_stays<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
-    params: &ModelParams,
-    sight: &S,
-    robot: usize,
-) -> bool {
-    if !(A::STAYS_WHEN_SURROUNDED && <A::Sensing as Sensing>::MODEL == Model::Ola) {
-        return false;
-    }
-    let v = sight.vision();
-    if params.errors.any() || v.limited() || v.fat() {
-        return false;
-    }
-    let eps = v.eps_axis;
-    let p = sight.position(robot);
-    let (lo, hi) = sight.bounds();
-    // The tests of `OlaObservation::side_occupied`, for both sides of every axis.
-    (0..P::DIM).all(|a| hi.axis(a) > p.axis(a) + eps && lo.axis(a) < p.axis(a) - eps)
-}
-
-/// Whether `A` keeps a state (and its robots a frame) between activations.
-pub const fn keeps_state<A: Algorithm>() -> bool {
-    std::mem::size_of::<A::State>() != 0
-}
-
-/// A decision that breaks the model (a step along a direction that is not a unit vector
-/// or not finite, or a step bounded by a distance from an algorithm that senses none),
-/// or an algorithm that panicked.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{algorithm}: {problem}")]
-pub struct BadDecision {
-    /// The algorithm's name.
-    pub algorithm: &'static str,
-    /// What is wrong.
-    pub problem: String,
-}
-
-thread_local! {
-    static DECIDING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-/// Whether this thread is inside an algorithm's [`Algorithm::decide`]: a panic hook can
-/// tell an algorithm's panic (which [`activate`] turns into a failed run) from a bug.
-pub fn in_algorithm() -> bool {
-    DECIDING.with(std::cell::Cell::get)
-}
-
-/// Marks this thread as deciding until dropped (also when `decide` unwinds).
-struct Deciding;
-
-impl Deciding {
-    fn start() -> Self {
-        DECIDING.with(|d| d.set(true));
-        Deciding
-    }
-}
-
-impl Drop for Deciding {
-    fn drop(&mut self) {
-        DECIDING.with(|d| d.set(false));
-    }
-}
-
-/// The message of a panic's payload.
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "a panic without a message".into())
-}
-
-/// How far from 1 a step's direction may be in length.
-pub const UNIT_TOLERANCE: f64 = 1e-6;
-
-/// One activation of robot `robot` by `algorithm`: its global displacement, or `None`
-/// to stay.
-///
-/// `kept` is the robot's frame and state when `A` keeps a state ([`keeps_state`]);
-/// otherwise `None`, and the frame is drawn from `stream` first (a rotation and
-/// chirality, or the agreed axes' order and orientation for [`Ola`]), then the
-/// perception's errors, then whatever the algorithm draws.
-pub fn activate<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
-    algorithm: &A,
-    params: &ModelParams,
-    sight: &S,
-    robot: usize,
-    kept: Option<&mut Kept<P, A::State>>,
-    stream: &mut Stream,
-) -> Result<Option<P>, BadDecision> {
-    let model = <A::Sensing as Sensing>::MODEL;
-    let mut fresh = A::State::default();
-    let (frame, state) = match kept {
-        Some(k) => (k.frame, &mut k.state),
-        None => (LocalFrame::draw(model, stream), &mut fresh),
-    };
-    let perception = Perception::new(params.errors, stream);
-    let looker = Looker::new(model, sight, robot, frame, params, perception);
-    let bad = |problem: String| BadDecision {
-        algorithm: A::NAME,
-        problem,
-    };
-    let decision = {
-        let _deciding = Deciding::start();
-        let obs = Observation::new(&looker);
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            algorithm.decide(&obs, state, stream)
-        }))
-        .map_err(|payload| bad(format!("panicked: {}", panic_message(&*payload))))?
-    };
-    let unit = |dir: P| {
-        let length = dir.length();
-        if (length - 1.0).abs() <= UNIT_TOLERANCE {
-            Ok(looker.to_global(&frame, dir))
-        } else {
-            Err(bad(format!(
-                "decided a step along {dir:?}, of length {length}: a direction must be a unit vector"
-            )))
-        }
-    };
-    match decision {
-        Decision::Stay => Ok(None),
-        Decision::Step(dir) => Ok(Some(unit(dir)? * params.step)),
-        Decision::StepAtMost(_, _) if model != Model::Positions => Err(bad(format!(
-            "decided a step bounded by a distance, but it senses {}, which gives no distance (only positions do)",
-            model.name()
-        ))),
-        Decision::StepAtMost(_, dist) if dist.is_nan() || dist < 0.0 => Err(bad(format!(
-            "decided a step of at most {dist}: the bound must be a distance, at least 0"
-        ))),
-        Decision::StepAtMost(dir, dist) => Ok(Some(unit(dir)? * params.step.min(dist))),
     }
 }
 

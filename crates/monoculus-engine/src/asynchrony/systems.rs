@@ -14,7 +14,7 @@ use super::{
 use crate::algorithm::Rule;
 use crate::faults::Role;
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
-use crate::systems::{KeptBy, MemoryOf, decide_one, realise};
+use crate::systems::{Item, KeptBy, MemoryOf, decide_items, decide_one, realise};
 use crate::{IndexPoint, SchedulerSpec};
 
 /// The phases of one event tick, run in this order.
@@ -227,14 +227,39 @@ fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     epoch: u64,
     inputs: &[Looker<P, A>],
 ) -> Vec<Decided<P, A>> {
+    let crashed = |r: u32| {
+        matches!(
+            params.faults.as_ref().map(|f| f.role(r as usize)),
+            Some(Role::Crashed { from }) if epoch >= from
+        )
+    };
+    if A::TOGETHER {
+        // The lookers that are not crashed, decided in one call in robot order.
+        let mut items: Vec<Item<P, A>> = inputs
+            .iter()
+            .filter(|(r, ..)| !crashed(*r))
+            .map(|(r, cycle, m)| (*r as usize, *cycle, m.clone()))
+            .collect();
+        let mut decided = decide_items(params, algorithm, sight, &mut items)
+            .into_iter()
+            .zip(items);
+        return inputs
+            .iter()
+            .map(|(r, cycle, memory)| {
+                if crashed(*r) {
+                    return (None, memory.clone());
+                }
+                let (d, (_, _, m)) = decided.next().expect("one decision a looker");
+                (d.map(|d| realise(params, *r as usize, *cycle, d)), m)
+            })
+            .collect();
+    }
     inputs
         .par_iter()
         .map(|(r, cycle, memory)| {
             let (r, cycle) = (*r, *cycle);
             let mut memory = memory.clone();
-            if let Some(Role::Crashed { from }) = params.faults.as_ref().map(|f| f.role(r as usize))
-                && epoch >= from
-            {
+            if crashed(r) {
                 return (None, memory);
             }
             let d = decide_one(params, algorithm, sight, r as usize, cycle, memory.as_mut())

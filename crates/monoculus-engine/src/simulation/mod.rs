@@ -162,6 +162,9 @@ pub struct RunOutcome {
     /// Why the run stopped early, if its algorithm failed (a step along a direction that
     /// is not a unit vector, a panic): the run is then not converged.
     pub failure: Option<crate::resources::RunFailure>,
+    /// Whether the run was stopped from outside ([`Simulation::set_interrupt`]) before
+    /// its criterion or its cap: its metrics are those of where it stopped.
+    pub interrupted: bool,
     /// The number of faulty robots (SPEC 9.1); the metrics above are the correct robots'.
     pub faulty: u64,
 }
@@ -190,6 +193,8 @@ pub struct Simulation<P: IndexPoint> {
     hull_initial: f64,
     /// The (position generation, activations) at which quiescence was last found false.
     last_quiescence_check: Option<(u64, u64)>,
+    /// Set from outside to stop the run at the end of the current round (tick).
+    interrupt: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
     _point: std::marker::PhantomData<fn() -> P>,
 }
 
@@ -226,6 +231,7 @@ impl<P: IndexPoint> Simulation<P> {
             hull_initial,
             config,
             last_quiescence_check: None,
+            interrupt: None,
             _point: std::marker::PhantomData,
         })
     }

@@ -20,6 +20,14 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
         sight: &S,
         robots: &[(usize, Option<KeptBy<P, A>>)],
     ) -> bool {
+        if A::TOGETHER {
+            let mut items: Vec<crate::systems::Item<P, A>> = robots
+                .iter()
+                .map(|(i, m)| (*i, u64::MAX, m.clone()))
+                .collect();
+            let decided = crate::systems::decide_items(params, algorithm, sight, &mut items);
+            return decided.iter().any(Option::is_some);
+        }
         robots.par_iter().with_min_len(32).any(|(i, memory)| {
             let mut memory = memory.clone();
             decide_one(params, algorithm, sight, *i, u64::MAX, memory.as_mut()).is_some()
@@ -81,6 +89,44 @@ impl<P: IndexPoint> Simulation<P> {
     /// Whether no correct robot would move if activated now.
     pub fn is_quiescent(&mut self) -> bool {
         (self.hooks.quiescent)(&mut self.world)
+    }
+
+    /// A flag that, once set (from any thread: a signal handler, a binding's Ctrl-C),
+    /// stops [`Simulation::run`] at the end of the round (ASYNC: tick) it is in; the
+    /// outcome then says `interrupted`.
+    pub fn set_interrupt(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
+        self.interrupt = Some(flag);
+    }
+
+    fn interrupted(&self) -> bool {
+        self.interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
+
+    /// Sets the cap on rounds (ASYNC: epochs) of the runs to come.
+    pub fn set_max_rounds(&mut self, max_rounds: u64) {
+        self.config.stop.max_rounds = max_rounds;
+    }
+
+    /// Whether the stop criterion holds now (quiescence is checked on a copy: nothing
+    /// changes).
+    pub fn criterion_holds_now(&mut self) -> bool {
+        self.criterion_holds()
+    }
+
+    /// Rounds completed (ASYNC: epochs).
+    pub fn rounds_done(&self) -> u64 {
+        match self.world.get_resource::<AsyncClock>() {
+            Some(c) => c.epochs,
+            None => self.world.resource::<Clock>().round,
+        }
+    }
+
+    /// The shape now: (hull area or volume, diameter).
+    pub fn shape(&self) -> (f64, f64) {
+        let s = self.world.resource::<Shape>();
+        (s.hull, s.diameter)
     }
 
     /// Why the run has failed, if its algorithm made a bad decision or panicked.
@@ -157,9 +203,10 @@ impl<P: IndexPoint> Simulation<P> {
     pub(super) fn run_rounds_with(&mut self, mut after: impl FnMut(&Self, u64)) -> RunOutcome {
         let fsync = self.config.scheduler == SchedulerSpec::Fsync;
         let quiescence = self.config.stop.criterion.checks_quiescence();
-        let mut rounds = 0u64;
+        // Rounds already run (by `step`) count: a run continues where the steps left it.
+        let mut rounds = self.world.resource::<Clock>().round;
         let converged = loop {
-            if self.failure().is_some() {
+            if self.failure().is_some() || self.interrupted() {
                 break false;
             }
             if self.criterion_holds() {
@@ -204,7 +251,7 @@ impl<P: IndexPoint> Simulation<P> {
     /// `after` is called after every tick, with whether it completed an epoch.
     pub(super) fn run_async_with(&mut self, mut after: impl FnMut(&Self, bool)) -> RunOutcome {
         let converged = loop {
-            if self.failure().is_some() {
+            if self.failure().is_some() || self.interrupted() {
                 break false;
             }
             if self.criterion_holds() {
@@ -244,6 +291,7 @@ impl<P: IndexPoint> Simulation<P> {
             terminated,
             ticks: self.world.get_resource::<AsyncClock>().map(|c| c.tick),
             failure: self.failure(),
+            interrupted: self.interrupted(),
             faulty: self
                 .world
                 .resource::<Params>()

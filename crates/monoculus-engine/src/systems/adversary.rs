@@ -7,28 +7,22 @@ use monoculus_core::algorithms::Algorithm;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
-use super::compute::{KeptBy, MemoryOf};
-use super::{decide_one, hull_grew};
+use super::compute::{Item, KeptBy, MemoryOf, decide_items};
+use super::hull_grew;
 use crate::algorithm::Rule;
 use crate::components::{Activated, Robot, Waiting};
 use crate::resources::{Clock, Params, Positions, Snapshot, SnapshotSight};
 use crate::{IndexPoint, Objective, SchedulerSpec};
 
-/// Every robot's decision this round, by index (memories copied: nothing is changed).
+/// Every robot's decision this round, by index (states copied: nothing is changed).
 fn decisions<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     (params, algorithm): (&Params, &A),
     sight: &S,
     round: u64,
     robots: &[(usize, Option<KeptBy<P, A>>)],
 ) -> Vec<Option<P>> {
-    robots
-        .par_iter()
-        .with_min_len(32)
-        .map(|(i, memory)| {
-            let mut memory = memory.clone();
-            decide_one(params, algorithm, sight, *i, round, memory.as_mut())
-        })
-        .collect()
+    let mut items: Vec<Item<P, A>> = robots.iter().map(|(i, m)| (*i, round, m.clone())).collect();
+    decide_items(params, algorithm, sight, &mut items)
 }
 
 /// The robots the adversary activates besides the forced ones: by `objective`, among

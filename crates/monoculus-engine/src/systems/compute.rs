@@ -1,5 +1,7 @@
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::{Algorithm, Kept, activate, certainly_stays};
+use monoculus_core::algorithms::{
+    Algorithm, BadDecision, Kept, activate, activate_together, certainly_stays,
+};
 use monoculus_core::rng::{Purpose, Stream};
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
@@ -14,10 +16,54 @@ use crate::{IndexPoint, SchedulerSpec};
 /// What a robot keeps, if its algorithm has a state.
 pub type KeptBy<P, A> = Kept<P, <A as Algorithm>::State>;
 
-/// One robot's decision in `round`: its global displacement or `None`. A crashed robot
-/// stays from its crash round on; a Byzantine robot follows its rule (SPEC 9.1). A bad
-/// decision of the algorithm (or its panic) is recorded as the run's failure, and the
-/// robot stays.
+/// What happens to robot `robot` in `round` before its algorithm is asked: `Some` when
+/// that is decided already (a crashed robot stays from its crash round on; a Byzantine
+/// robot follows its rule, SPEC 9.1; a robot [`certainly_stays`] vouches for stays),
+/// `None` when it is activated.
+fn settled<P: IndexPoint, S: Sight<P> + ?Sized, A: Algorithm>(
+    params: &Params,
+    sight: &S,
+    robot: usize,
+    round: u64,
+) -> Option<Option<P>> {
+    let role = params
+        .faults
+        .as_ref()
+        .map_or(Role::Correct, |f| f.role(robot));
+    match role {
+        // Under ASYNC `round` is the robot's cycle: the Look checks the crash by epoch.
+        Role::Crashed { from }
+            if round >= from && !matches!(params.scheduler, SchedulerSpec::Async(_)) =>
+        {
+            Some(None)
+        }
+        Role::Byzantine(rule) => Some(byzantine_move(
+            rule,
+            sight.positions(),
+            robot,
+            params.model.step,
+            &mut decide_stream(params, robot, round),
+        )),
+        _ if certainly_stays::<A, P, S>(&params.model, sight, robot) => Some(None),
+        _ => None,
+    }
+}
+
+fn decide_stream(params: &Params, robot: usize, round: u64) -> Stream {
+    Stream::keyed(params.seed, Purpose::Decide, robot as u64, round)
+}
+
+fn record(params: &Params, robot: usize, round: u64, bad: BadDecision) {
+    params.failure.record(RunFailure {
+        round: round.saturating_add(1),
+        robot,
+        message: bad.to_string(),
+    });
+}
+
+/// One robot's decision in `round`: its global displacement or `None` (see [`settled`]
+/// for the robots that are not activated). A bad decision of the algorithm (or its
+/// panic) is recorded as the run's failure, and the robot stays.
 pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized, A: Algorithm>(
     params: &Params,
     algorithm: &A,
@@ -26,45 +72,61 @@ pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized, A: Algorithm>(
     round: u64,
     memory: Option<&mut KeptBy<P, A>>,
 ) -> Option<P> {
-    let role = params
-        .faults
-        .as_ref()
-        .map_or(Role::Correct, |f| f.role(robot));
-    let stream = || Stream::keyed(params.seed, Purpose::Decide, robot as u64, round);
-    match role {
-        // Under ASYNC `round` is the robot's cycle: the Look checks the crash by epoch.
-        Role::Crashed { from }
-            if round >= from && !matches!(params.scheduler, SchedulerSpec::Async(_)) =>
-        {
+    if let Some(d) = settled::<P, S, A>(params, sight, robot, round) {
+        return d;
+    }
+    let mut stream = decide_stream(params, robot, round);
+    match activate(algorithm, &params.model, sight, robot, memory, &mut stream) {
+        Ok(d) => d,
+        Err(bad) => {
+            record(params, robot, round, bad);
             None
         }
-        Role::Byzantine(rule) => byzantine_move(
-            rule,
-            sight.positions(),
-            robot,
-            params.model.step,
-            &mut stream(),
-        ),
-        _ if certainly_stays::<A, P, S>(&params.model, sight, robot) => None,
-        _ => match activate(
-            algorithm,
-            &params.model,
-            sight,
-            robot,
-            memory,
-            &mut stream(),
-        ) {
-            Ok(d) => d,
-            Err(bad) => {
-                params.failure.record(RunFailure {
-                    round: round.saturating_add(1),
-                    robot,
-                    message: bad.to_string(),
-                });
-                None
-            }
-        },
     }
+}
+
+/// A robot's decided displacement (after movement errors) and what it keeps.
+type Decided<P, A> = (Option<P>, Option<KeptBy<P, A>>);
+
+/// One activation: the robot, its round (ASYNC: its cycle) and what it keeps.
+pub type Item<P, A> = (usize, u64, Option<KeptBy<P, A>>);
+
+/// The decisions of several activations, before movement errors: one by one, in
+/// parallel; or, for an algorithm that decides together ([`Algorithm::TOGETHER`]), in
+/// one call, in the order given.
+pub fn decide_items<P: IndexPoint, S: Sight<P>, A: Algorithm>(
+    params: &Params,
+    algorithm: &A,
+    sight: &S,
+    items: &mut [Item<P, A>],
+) -> Vec<Option<P>> {
+    if !A::TOGETHER {
+        return items
+            .par_iter_mut()
+            .with_min_len(32)
+            .map(|(r, round, m)| decide_one(params, algorithm, sight, *r, *round, m.as_mut()))
+            .collect();
+    }
+    let mut out = vec![None; items.len()];
+    let mut batch = Vec::new();
+    let mut at = Vec::new();
+    for (k, (robot, round, kept)) in items.iter_mut().enumerate() {
+        match settled::<P, S, A>(params, sight, *robot, *round) {
+            Some(d) => out[k] = d,
+            None => {
+                batch.push((*robot, kept.as_mut(), decide_stream(params, *robot, *round)));
+                at.push((k, *robot, *round));
+            }
+        }
+    }
+    let decided = activate_together(algorithm, &params.model, sight, &mut batch);
+    for ((k, robot, round), d) in at.into_iter().zip(decided) {
+        match d {
+            Ok(d) => out[k] = d,
+            Err(bad) => record(params, robot, round, bad),
+        }
+    }
+    out
 }
 
 /// Whether robot `robot` may move if activated: Byzantine robots always may; for the
@@ -259,6 +321,39 @@ fn decide_in_order<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     }
 }
 
+/// Decides for the robots of `bits` together, in robot order ([`decide_items`]).
+fn decide_together<P: IndexPoint, S: Sight<P>, A: Algorithm>(
+    (params, algorithm): (&Params, &A),
+    round: u64,
+    sight: &S,
+    bits: &[u64],
+    robots: &mut Robots<'_, '_, P, A>,
+) {
+    let mut items: Vec<Item<P, A>> = robots
+        .iter()
+        .filter(|(r, ..)| holds(bits, r.index as usize))
+        .map(|(r, _, _, m)| (r.index as usize, round, m.map(|m| m.0.clone())))
+        .collect();
+    items.sort_unstable_by_key(|(r, ..)| *r);
+    let decided = decide_items(params, algorithm, sight, &mut items);
+    let mut by_robot: std::collections::HashMap<usize, Decided<P, A>> = items
+        .into_iter()
+        .zip(decided)
+        .map(|((r, _, m), d)| (r, (d.map(|d| realise(params, r, round, d)), m)))
+        .collect();
+    for (robot, _, mut intent, memory) in robots.iter_mut() {
+        let Some((d, m)) = by_robot.remove(&(robot.index as usize)) else {
+            continue;
+        };
+        intent.0 = d;
+        if let (Some(mut stored), Some(m)) = (memory, m)
+            && stored.0 != m
+        {
+            stored.0 = m;
+        }
+    }
+}
+
 /// Decides for every activated robot: those [`certainly_stays`] vouches for at once,
 /// the others in parallel, in the `order` of the sight's index if it has one and they
 /// are many.
@@ -270,6 +365,9 @@ fn compute_all<'a, P: IndexPoint, S: Sight<P>, A: Algorithm>(
     robots: &mut Robots<'_, '_, P, A>,
 ) {
     let (bits, count, with_memory) = deciding::<P, S, A>(params.0, sight, robots);
+    if A::TOGETHER {
+        return decide_together(params, round, sight, &bits, robots);
+    }
     if count >= FEW
         && let Some(order) = order().filter(|o| o.robots.len() == Sight::len(sight))
     {
