@@ -16,7 +16,7 @@ use bevy_ecs::prelude::*;
 use glam::{DVec2, DVec3};
 use monoculus_core::algorithms::{
     Algorithm, AlgorithmKind, AngleBisector, CenterOfGravity, ConvergeLocality, ConvergeQuadrant,
-    ConvergeQuadrantTermination, Median, Model, Sensing, StopCriterion, keeps_state,
+    ConvergeQuadrantTermination, Median, Model, Sensing, StopCriterion,
 };
 
 use crate::IndexPoint;
@@ -82,6 +82,7 @@ impl AlgorithmBox {
     /// `algorithm`, ready for a run.
     pub fn new<A: Algorithm>(algorithm: A) -> Self {
         let name: Arc<str> = algorithm.name().into();
+        let keeps_state = algorithm.keeps_state();
         let held = Arc::new(Held(Arc::new(algorithm)));
         AlgorithmBox {
             plane: held.clone(),
@@ -91,7 +92,7 @@ impl AlgorithmBox {
             stop: A::STOP,
             assumes_c_at_least_2b: A::ASSUMES_C_AT_LEAST_2B,
             plane_only: A::PLANE_ONLY,
-            keeps_state: keeps_state::<A>(),
+            keeps_state,
             shows_bits: A::shown_bits(&A::State::default()).is_some(),
         }
     }

@@ -22,7 +22,6 @@ impl<A: Algorithm> Algorithm for Together<A> {
     type State = A::State;
     const STOP: StopCriterion = A::STOP;
     const STAYS_WHEN_SURROUNDED: bool = A::STAYS_WHEN_SURROUNDED;
-    const TOGETHER: bool = true;
 
     fn new(p: A::Params) -> Result<Self, String> {
         A::new(p).map(Together)
@@ -35,6 +34,10 @@ impl<A: Algorithm> Algorithm for Together<A> {
         rng: &mut Stream,
     ) -> Decision<V> {
         self.0.decide(obs, state, rng)
+    }
+
+    fn decides_together(&self) -> bool {
+        true
     }
 
     fn terminated(state: &A::State, dim: usize) -> Option<bool> {

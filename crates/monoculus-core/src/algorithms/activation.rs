@@ -35,11 +35,6 @@ pub fn certainly_stays<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     (0..P::DIM).all(|a| hi.axis(a) > p.axis(a) + eps && lo.axis(a) < p.axis(a) - eps)
 }
 
-/// Whether `A` keeps a state (and its robots a frame) between activations.
-pub const fn keeps_state<A: Algorithm>() -> bool {
-    std::mem::size_of::<A::State>() != 0
-}
-
 /// A decision that breaks the model (a step along a direction that is not a unit vector
 /// or not finite, or a step bounded by a distance from an algorithm that senses none),
 /// or an algorithm that panicked.
@@ -93,7 +88,7 @@ pub const UNIT_TOLERANCE: f64 = 1e-6;
 /// One activation of robot `robot` by `algorithm`: its global displacement, or `None`
 /// to stay.
 ///
-/// `kept` is the robot's frame and state when `A` keeps a state ([`keeps_state`]);
+/// `kept` is the robot's frame and state when `A` keeps a state ([`Algorithm::keeps_state`]);
 /// otherwise `None`, and the frame is drawn from `stream` first (a rotation and
 /// chirality, or the agreed axes' order and orientation for OLA), then the perception's
 /// errors, then whatever the algorithm draws.
@@ -125,7 +120,7 @@ pub fn activate<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
 pub type Pending<'a, P, T> = (usize, Option<&'a mut Kept<P, T>>, Stream);
 
 /// The activations of one round (ASYNC: one tick) of an algorithm that decides them
-/// together ([`Algorithm::TOGETHER`]): each is (robot, its kept frame and state if `A`
+/// together ([`Algorithm::decides_together`]): each is (robot, its kept frame and state if `A`
 /// keeps one, its stream), in the order given; each gets its frame and perception drawn
 /// as in [`activate`], then [`Algorithm::decide_together`] decides them in one call. The
 /// global displacements, in the same order (a panic fails every one).

@@ -157,13 +157,6 @@ pub trait Algorithm: Sized + Send + Sync + 'static {
     /// Ignored for the other models.
     const STAYS_WHEN_SURROUNDED: bool = false;
 
-    /// Whether the activations of a round (ASYNC: of a tick) are decided together, in
-    /// one call of [`Algorithm::decide_together`], instead of one by one with
-    /// [`Algorithm::decide`]: for bindings whose call is dear (an algorithm written
-    /// with numpy decides a whole round at once). They run on one thread, in robot
-    /// order.
-    const TOGETHER: bool = false;
-
     /// The algorithm with these parameters, or why they are not valid (one line; the
     /// config error names `algorithm.params`).
     fn new(params: Self::Params) -> Result<Self, String>;
@@ -179,8 +172,24 @@ pub trait Algorithm: Sized + Send + Sync + 'static {
         rng: &mut Stream,
     ) -> Decision<V>;
 
-    /// The activations of a round (ASYNC: a tick) at once, for algorithms that set
-    /// [`Algorithm::TOGETHER`]: one observation, state and stream per activation, in
+    /// Whether its robots keep their state (and frame) between activations: by default
+    /// when [`Algorithm::State`] is not zero-sized. Bindings whose algorithms declare
+    /// memory at run time say here.
+    fn keeps_state(&self) -> bool {
+        std::mem::size_of::<Self::State>() != 0
+    }
+
+    /// Whether the activations of a round (ASYNC: of a tick) are decided together, in
+    /// one call of [`Algorithm::decide_together`], instead of one by one with
+    /// [`Algorithm::decide`]: for bindings whose call is dear (an algorithm written
+    /// with numpy decides a whole round at once). They run on one thread, in robot
+    /// order.
+    fn decides_together(&self) -> bool {
+        false
+    }
+
+    /// The activations of a round (ASYNC: a tick) at once, for algorithms that decide
+    /// together ([`Algorithm::decides_together`]): one observation, state and stream per activation, in
     /// robot order; one decision each, in the same order. By default, `decide` for each.
     fn decide_together<V: Point>(
         &self,

@@ -17,7 +17,7 @@ mod termination_bits;
 
 pub use activation::{
     BadDecision, Pending, UNIT_TOLERANCE, activate, activate_together, certainly_stays,
-    in_algorithm, keeps_state,
+    in_algorithm,
 };
 pub use algorithm::{Algorithm, NoParams, StopCriterion};
 pub use angle_bisector::AngleBisector;

@@ -233,7 +233,7 @@ fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
             Some(Role::Crashed { from }) if epoch >= from
         )
     };
-    if A::TOGETHER {
+    if algorithm.decides_together() {
         // The lookers that are not crashed, decided in one call in robot order.
         let mut items: Vec<Item<P, A>> = inputs
             .iter()

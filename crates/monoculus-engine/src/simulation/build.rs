@@ -148,6 +148,7 @@ pub(super) fn spawn_robots<P: IndexPoint, A: Algorithm>(
     world: &mut World,
     config: &SimConfig,
     initial: &[P],
+    keeps_state: bool,
 ) -> Vec<Entity> {
     // Each robot is spawned with every component it will carry, so that nothing moves
     // it to another archetype later (at 10^6 robots, inserting a component one robot at
@@ -166,7 +167,7 @@ pub(super) fn spawn_robots<P: IndexPoint, A: Algorithm>(
     let round = |i: usize| (robot(i), Activated(false), Waiting(0), Intent::<P>(None));
     let n = initial.len();
     let asynchronous = matches!(config.scheduler, SchedulerSpec::Async(_));
-    match (asynchronous, keeps_state::<A>()) {
+    match (asynchronous, keeps_state) {
         (false, false) => world.spawn_batch((0..n).map(round)).for_each(drop),
         (false, true) => world
             .spawn_batch((0..n).map(|i| (round(i), memory(i))))

@@ -8,7 +8,7 @@ mod wiring;
 pub use view::{Activity, RobotView};
 
 use bevy_ecs::prelude::*;
-use monoculus_core::algorithms::{Algorithm, Kept, LocalFrame, ModelParams, Sensing, keeps_state};
+use monoculus_core::algorithms::{Algorithm, Kept, LocalFrame, ModelParams, Sensing};
 use monoculus_core::errors::MovementErrors;
 use monoculus_core::metrics;
 use monoculus_core::rng::{Purpose, Stream};
@@ -329,8 +329,9 @@ pub(crate) fn install<P: IndexPoint, A: Algorithm>(
         params,
         initial,
     } = setup;
+    let keeps = algorithm.keeps_state();
     world.insert_resource(Rule(algorithm));
-    let entities = build::spawn_robots::<P, A>(world, config, initial);
+    let entities = build::spawn_robots::<P, A>(world, config, initial, keeps);
     if let SchedulerSpec::Async(spec) = config.scheduler {
         wiring::wire_async::<P, A>(world, schedule, params, spec, entities);
     } else {

@@ -20,7 +20,7 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
         sight: &S,
         robots: &[(usize, Option<KeptBy<P, A>>)],
     ) -> bool {
-        if A::TOGETHER {
+        if algorithm.decides_together() {
             let mut items: Vec<crate::systems::Item<P, A>> = robots
                 .iter()
                 .map(|(i, m)| (*i, u64::MAX, m.clone()))
@@ -53,7 +53,7 @@ type Saved<P, A> = Vec<(Entity, KeptBy<P, A>)>;
 pub(super) fn save_states<P: IndexPoint, A: Algorithm>(
     world: &mut World,
 ) -> Option<Box<dyn std::any::Any + Send>> {
-    if !keeps_state::<A>() {
+    if !world.resource::<Rule<A>>().0.keeps_state() {
         return None;
     }
     let mut q = world.query::<(Entity, &MemoryOf<P, A>)>();

@@ -92,7 +92,7 @@ type Decided<P, A> = (Option<P>, Option<KeptBy<P, A>>);
 pub type Item<P, A> = (usize, u64, Option<KeptBy<P, A>>);
 
 /// The decisions of several activations, before movement errors: one by one, in
-/// parallel; or, for an algorithm that decides together ([`Algorithm::TOGETHER`]), in
+/// parallel; or, for an algorithm that decides together ([`Algorithm::decides_together`]), in
 /// one call, in the order given.
 pub fn decide_items<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     params: &Params,
@@ -100,7 +100,7 @@ pub fn decide_items<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     sight: &S,
     items: &mut [Item<P, A>],
 ) -> Vec<Option<P>> {
-    if !A::TOGETHER {
+    if !algorithm.decides_together() {
         return items
             .par_iter_mut()
             .with_min_len(32)
@@ -365,7 +365,7 @@ fn compute_all<'a, P: IndexPoint, S: Sight<P>, A: Algorithm>(
     robots: &mut Robots<'_, '_, P, A>,
 ) {
     let (bits, count, with_memory) = deciding::<P, S, A>(params.0, sight, robots);
-    if A::TOGETHER {
+    if params.1.decides_together() {
         return decide_together(params, round, sight, &bits, robots);
     }
     if count >= FEW
