@@ -69,7 +69,7 @@ fn wrong_type() {
     let (e, _) = config_error(&GOOD.replace("\"converge_locality\"", "\"converge_everything\""));
     assert!(
         one_line(&e).starts_with(
-            "error: bad.toml:10: algorithm.name: `converge_everything` is not an algorithm of this binary; it has converge_locality, converge_quadrant, converge_quadrant_termination, center_of_gravity, median, angle_bisector"
+            "error: bad.toml:10: algorithm.name: `converge_everything` is not a registered algorithm; registered are converge_locality, converge_quadrant, converge_quadrant_termination, center_of_gravity, median, angle_bisector"
         ),
         "{e}"
     );

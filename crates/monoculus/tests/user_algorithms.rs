@@ -182,7 +182,7 @@ fn bad_params_name_their_key_and_line() {
         ),
         (
             TURN.replace("name = \"turn\"", "name = \"spin\""),
-            "user.toml:10: algorithm.name: `spin` is not an algorithm of this binary; it has converge_locality, converge_quadrant, converge_quadrant_termination, center_of_gravity, median, angle_bisector, turn, flaky",
+            "user.toml:10: algorithm.name: `spin` is not a registered algorithm; registered are converge_locality, converge_quadrant, converge_quadrant_termination, center_of_gravity, median, angle_bisector, turn, flaky",
         ),
     ];
     for (text, want) in cases {

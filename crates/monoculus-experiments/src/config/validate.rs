@@ -236,7 +236,7 @@ pub(super) fn algorithm(
         return Err(src.error(
             "algorithm.name",
             format!(
-                "{} is not an algorithm of this binary; it has {}",
+                "{} is not a registered algorithm; registered are {}",
                 crate::shown(&a.name),
                 if names.is_empty() {
                     "none".to_string()
