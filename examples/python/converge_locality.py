@@ -1,0 +1,27 @@
+"""ConvergeLocality (the paper's LD algorithm, SPEC 4.1) written in Python: a robot that
+sees one point moves toward it, else toward a uniformly random far point, else stays.
+It gives the runs of the built-in converge_locality, bit for bit (python/tests/test_algorithms.py checks it).
+
+    python examples/python/converge_locality.py
+"""
+
+import monoculus
+
+
+@monoculus.algorithm("py_converge_locality", sensing="ld")
+def converge_locality(obs, rng):
+    toward = obs.sole_visible()
+    if toward is not None:
+        return toward
+    return obs.random_far(rng)  # None (stay) if no visible point is far
+
+
+if __name__ == "__main__":
+    config = {
+        "name": "python-locality",
+        "seeds": 10,
+        "swarm": {"n": 50, "init": "square", "side": 20.0},
+        "algorithm": {"name": ["py_converge_locality", "converge_locality"]},
+    }
+    runs = monoculus.run(config)
+    print(runs.groupby("algorithm")[["rho", "tau", "rounds"]].median())

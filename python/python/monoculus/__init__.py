@@ -1,0 +1,215 @@
+"""monoculus: swarms of robots that cannot measure distances, from Python.
+
+The Rust engine of the `monoculus` command line, with a Python face:
+
+- :func:`run` runs a sweep (a config file, or a dict in its shape) into a
+  :class:`pandas.DataFrame` of ``runs.csv``'s rows, and into a results folder if asked;
+- :class:`Simulation` steps one run, with its positions as numpy arrays;
+- :func:`algorithm` turns a Python function into an algorithm that every scheduler,
+  error model and fault model runs, in the plane and in space.
+
+See ``docs/python.md`` in the repository.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import tempfile
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import pandas as pd
+
+from . import _native
+from ._native import AlgorithmError, ConfigError, Rng
+
+__all__ = [
+    "AlgorithmError",
+    "ConfigError",
+    "Rng",
+    "Simulation",
+    "algorithm",
+    "algorithms",
+    "run",
+]
+
+__version__ = "0.2.0"
+
+_SENSING = ("directions", "ld", "ola", "positions")
+_REGISTERED: dict[str, dict[str, Any]] = {}
+
+
+def algorithm(
+    name: str,
+    sensing: str = "ld",
+    memory: Optional[int] = None,
+    params: Optional[Mapping[str, Any]] = None,
+    vectorized: bool = False,
+    stop: Optional[str] = None,
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Registers ``decide`` as the algorithm ``name`` (what ``algorithm.name`` selects).
+
+    ``decide(obs, rng)`` (``decide(obs, rng, state)`` with ``memory``) is called for
+    each activation of a robot, from what it senses in the model ``sensing``
+    (``"directions"``, ``"ld"``, ``"ola"`` or ``"positions"``), in its local frame; it
+    returns a direction in that frame (a numpy array or a tuple, a unit vector) or
+    ``None`` to stay. ``rng`` is the robot's own random stream: draw only from it, and
+    runs are reproducible whatever the thread count. ``state`` is a numpy array of
+    ``memory`` floats the robot keeps between its activations (zeros at the start;
+    change it in place). ``params`` are the defaults of the algorithm's parameters,
+    which a config's ``[algorithm.params]`` may set (and sweep); ``obs.params`` holds
+    them. ``stop`` is the default stop criterion (``"quiescent_or_diameter"`` unless
+    given).
+
+    With ``vectorized=True``, ``decide(batch)`` is called once per round (ASYNC: per
+    tick) with every activation at once: ``batch.count`` activations,
+    ``batch.offsets`` (``count + 1``; activation ``i``'s points are rows
+    ``offsets[i]:offsets[i + 1]``), ``batch.directions`` (one row per visible point),
+    ``batch.far`` (ld) or ``batch.sides`` (ola: ``count`` rows of low/high per axis),
+    ``batch.random`` (``count`` rows of 8 uniform draws from each robot's stream),
+    ``batch.state`` (with ``memory``, ``count`` rows, changed in place) and
+    ``batch.params``; it returns ``(directions, stay)``: an ``(count, dim)`` array and
+    ``count`` booleans.
+    """
+    if sensing not in _SENSING:
+        raise ValueError(f"sensing {sensing!r}: one of {', '.join(_SENSING)}")
+
+    def register(decide: Callable[..., Any]) -> Callable[..., Any]:
+        declaration = {
+            "name": name,
+            "sensing": sensing,
+            "memory": memory,
+            "params": dict(params) if params is not None else None,
+            "vectorized": bool(vectorized),
+            "stop": stop,
+            "func": decide,
+        }
+        _native.check_algorithm(declaration)
+        _REGISTERED[name] = declaration
+        return decide
+
+    return register
+
+
+def algorithms() -> list[str]:
+    """The names of the Python algorithms registered so far."""
+    return list(_REGISTERED)
+
+
+def _declared() -> list[dict[str, Any]]:
+    return list(_REGISTERED.values())
+
+
+_Config = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+_Set = Optional[Union[Mapping[str, Any], Sequence[str], str]]
+
+
+def _config(config: _Config) -> Any:
+    return dict(config) if isinstance(config, Mapping) else config
+
+
+def _frame(path: str) -> pd.DataFrame:
+    return pd.read_csv(path, keep_default_na=True, true_values=["true"], false_values=["false"])
+
+
+def run(
+    config: _Config,
+    set: _Set = None,
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
+    threads: Optional[int] = None,
+) -> pd.DataFrame:
+    """Runs every cell x seed of ``config``, as ``monoculus run`` does.
+
+    ``config`` is a path to a TOML file or a dict in its shape; ``set`` overrides dotted
+    keys as ``--set`` does (a dict ``{"swarm.n": [10, 20]}``, a list value sweeping, or
+    ``"KEY=VALUE"`` strings). Returns ``runs.csv`` as a DataFrame, row for row what the
+    command line writes. With ``out``, the results folder is written there (and resumed
+    the same way); ``threads`` defaults to all cores. A bad config raises
+    :class:`ConfigError`; runs whose algorithm failed raise :class:`AlgorithmError`
+    (the other runs are written); Ctrl-C stops the sweep at the end of the running
+    rounds, leaving a folder that resumes.
+    """
+    if out is not None:
+        folder = os.fspath(out)
+        _native.run(_config(config), set, folder, threads, _declared())
+        return _frame(os.path.join(folder, "runs.csv"))
+    with tempfile.TemporaryDirectory(prefix="monoculus-") as folder:
+        _native.run(_config(config), set, folder, threads, _declared())
+        return _frame(os.path.join(folder, "runs.csv"))
+
+
+def _value(text: str) -> Any:
+    if text == "":
+        return None
+    if text in ("true", "false"):
+        return text == "true"
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+class Simulation:
+    """One run of a config's cell and seed, stepped from Python.
+
+    ``Simulation(config, seed=0, cell=0, set=None, positions=None)``: ``config`` and
+    ``set`` as for :func:`run`; ``positions`` an ``(n, dim)`` array of start positions
+    in place of the config's initial shape.
+    """
+
+    def __init__(
+        self,
+        config: _Config,
+        seed: int = 0,
+        cell: int = 0,
+        set: _Set = None,
+        positions: Optional[np.ndarray] = None,
+    ) -> None:
+        if positions is not None:
+            positions = np.ascontiguousarray(positions, dtype=np.float64)
+        self._sim = _native.Simulation(
+            _config(config), seed, cell, set, positions, _declared()
+        )
+
+    def step(self) -> None:
+        """Advances one round (ASYNC: one epoch)."""
+        self._sim.step()
+
+    def run(self, max_rounds: Optional[int] = None) -> dict[str, Any]:
+        """Runs to the stop criterion (or ``max_rounds`` rounds in all); the outcome as a
+        dict of ``runs.csv``'s fields."""
+        row = self._sim.run(max_rounds)
+        return {k: _value(v) for k, v in row.items()}
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Every robot's position, an ``(n, dim)`` array (a copy)."""
+        return self._sim.positions
+
+    @property
+    def round(self) -> int:
+        """Rounds completed (ASYNC: epochs)."""
+        return self._sim.round
+
+    @property
+    def converged(self) -> bool:
+        """Whether the stop criterion holds now."""
+        return self._sim.converged
+
+    @property
+    def diameter(self) -> float:
+        """The swarm's diameter now."""
+        return self._sim.diameter
+
+    @property
+    def hull_area(self) -> float:
+        """The area (3D: volume) of the swarm's convex hull now."""
+        return self._sim.hull_area
+
+    def look(self, robot: int) -> pd.DataFrame:
+        """What ``robot`` sees now, as ``monoculus look`` prints it: one row per visible
+        point (``index``, ``far`` or ``side_*``, the direction ``dx, dy[, dz]``)."""
+        return pd.read_csv(io.StringIO(self._sim.look(robot)), true_values=["true"], false_values=["false"])

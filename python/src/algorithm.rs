@@ -1,0 +1,499 @@
+//! Algorithms written in Python: one Rust type per sensing model, whose `decide` calls
+//! the Python function with the activation's observation and stream.
+
+use std::marker::PhantomData;
+use std::sync::{Arc, Mutex};
+
+use monoculus_core::algorithms::{
+    Algorithm, Decision, Directions, Ld, Model, NoParams, Observation, Ola, Positions, Sensing,
+    StopCriterion,
+};
+use monoculus_core::geometry::Point;
+use monoculus_core::observe::Side;
+use monoculus_core::rng::Stream;
+use monoculus_engine::AlgorithmBox;
+use monoculus_experiments::Registry;
+use monoculus_experiments::registry::ParamsError;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use crate::convert::to_table;
+use crate::observation::{
+    DirectionsObservation, Guard, LdObservation, ObsApi, OlaObservation, PositionsObservation, Rng,
+};
+use crate::threads::keep_thread_state;
+
+/// The first exception a Python algorithm raised in a call of the package: re-raised
+/// (as the cause of `monoculus.AlgorithmError`) when the call ends.
+pub type Errors = Arc<Mutex<Option<PyErr>>>;
+
+/// A sensing model as the Python package hands it over.
+pub trait PyModel: Sensing + Sized {
+    /// The observation as its model's queries.
+    fn api<'a, V: Point>(obs: &'a Observation<'a, Self, V>) -> &'a (dyn ObsApi + 'a);
+    /// The Python object of an observation.
+    fn object<'py>(
+        py: Python<'py>,
+        guard: Guard,
+        params: Py<PyDict>,
+    ) -> PyResult<Bound<'py, PyAny>>;
+}
+
+macro_rules! model {
+    ($m:ty, $class:ident) => {
+        impl PyModel for $m {
+            fn api<'a, V: Point>(obs: &'a Observation<'a, Self, V>) -> &'a (dyn ObsApi + 'a) {
+                obs
+            }
+            fn object<'py>(
+                py: Python<'py>,
+                guard: Guard,
+                params: Py<PyDict>,
+            ) -> PyResult<Bound<'py, PyAny>> {
+                Ok(Bound::new(py, $class { guard, params })?.into_any())
+            }
+        }
+    };
+}
+model!(Directions, DirectionsObservation);
+model!(Ld, LdObservation);
+model!(Ola, OlaObservation);
+model!(Positions, PositionsObservation);
+
+/// A Python algorithm's memory: `memory` floats per robot, zero at the start.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PyState(Vec<f64>);
+
+/// An algorithm whose `decide` is a Python function.
+pub struct PyAlgorithm<M> {
+    name: String,
+    func: Py<PyAny>,
+    memory: Option<usize>,
+    vectorized: bool,
+    params: Py<PyDict>,
+    errors: Errors,
+    model: PhantomData<fn() -> M>,
+}
+
+impl<M: PyModel> PyAlgorithm<M> {
+    /// Records the first exception and fails the activation (a panic, which the engine
+    /// turns into the run's failure, naming the robot and round).
+    fn fail(&self, py: Python<'_>, e: PyErr) -> ! {
+        let text = e.to_string();
+        let _ = py;
+        let mut first = self.errors.lock().unwrap_or_else(|p| p.into_inner());
+        if first.is_none() {
+            *first = Some(e);
+        }
+        drop(first);
+        panic!("{text}");
+    }
+
+    fn decision<V: Point>(&self, out: &Bound<'_, PyAny>) -> PyResult<Decision<V>> {
+        if out.is_none() {
+            return Ok(Decision::Stay);
+        }
+        let c: Vec<f64> = match out.cast::<PyArray1<f64>>() {
+            Ok(a) => a.to_vec().ok(),
+            Err(_) => out.extract().ok(),
+        }
+        .ok_or_else(|| {
+            PyTypeError::new_err(format!(
+                "{}: decide returned {}, not a direction (an array or tuple of {} numbers) or None",
+                self.name,
+                out.repr().map(|r| r.to_string()).unwrap_or_default(),
+                V::DIM
+            ))
+        })?;
+        if c.len() != V::DIM {
+            return Err(PyValueError::new_err(format!(
+                "{}: decide returned a direction of {} coordinates in dimension {}",
+                self.name,
+                c.len(),
+                V::DIM
+            )));
+        }
+        Ok(Decision::Step(V::from_slice(&c)))
+    }
+
+    fn call<V: Point>(
+        &self,
+        py: Python<'_>,
+        obs: &Observation<'_, M, V>,
+        state: &mut PyState,
+        rng: &mut Stream,
+    ) -> PyResult<Decision<V>> {
+        let func = self.func.bind(py);
+        let params = self.params.clone_ref(py);
+        let out = Guard::during(M::api(obs), rng, |g| -> PyResult<Bound<'_, PyAny>> {
+            let o = M::object(py, g.clone(), params)?;
+            let r = Bound::new(py, Rng { guard: g })?;
+            match self.memory {
+                Some(k) => {
+                    if state.0.len() != k {
+                        state.0 = vec![0.0; k];
+                    }
+                    let s = state.0.clone().into_pyarray(py);
+                    let out = func.call1((o, r, s.clone()))?;
+                    state.0 = s.to_vec()?;
+                    Ok(out)
+                }
+                None => func.call1((o, r)),
+            }
+        })?;
+        self.decision(&out)
+    }
+
+    fn call_together<V: Point>(
+        &self,
+        py: Python<'_>,
+        obs: &[Observation<'_, M, V>],
+        states: &mut [&mut PyState],
+        rngs: &mut [&mut Stream],
+    ) -> PyResult<Vec<Decision<V>>> {
+        let m = obs.len();
+        let dim = V::DIM;
+        let mut offsets = vec![0i64];
+        let (mut dirs, mut far) = (Vec::new(), Vec::new());
+        let mut sides = Vec::with_capacity(m * 2 * dim);
+        for o in obs {
+            let api = M::api(o);
+            let (d, f) = api.seen();
+            dirs.extend(d);
+            far.extend(f);
+            offsets.push((dirs.len() / dim) as i64);
+            if M::MODEL == Model::Ola {
+                for k in 0..dim {
+                    sides.push(api.side_occupied(k, Side::Low));
+                    sides.push(api.side_occupied(k, Side::High));
+                }
+            }
+        }
+        const DRAWS: usize = 8;
+        let random: Vec<f64> = rngs
+            .iter_mut()
+            .flat_map(|r| (0..DRAWS).map(|_| r.uniform()).collect::<Vec<_>>())
+            .collect();
+        let batch = PyDict::new(py);
+        let total = dirs.len() / dim;
+        batch.set_item("count", m)?;
+        batch.set_item("dim", dim)?;
+        batch.set_item("offsets", offsets.into_pyarray(py))?;
+        batch.set_item(
+            "directions",
+            numpy::ndarray::Array2::from_shape_vec((total, dim), dirs)
+                .expect("rows")
+                .into_pyarray(py),
+        )?;
+        if M::MODEL == Model::Ld {
+            batch.set_item("far", far.into_pyarray(py))?;
+        }
+        if M::MODEL == Model::Ola {
+            batch.set_item(
+                "sides",
+                numpy::ndarray::Array2::from_shape_vec((m, 2 * dim), sides)
+                    .expect("rows")
+                    .into_pyarray(py),
+            )?;
+        }
+        batch.set_item(
+            "random",
+            numpy::ndarray::Array2::from_shape_vec((m, DRAWS), random)
+                .expect("rows")
+                .into_pyarray(py),
+        )?;
+        batch.set_item("params", self.params.clone_ref(py))?;
+        let state = self.memory.map(|k| {
+            let flat: Vec<f64> = states
+                .iter_mut()
+                .flat_map(|s| {
+                    if s.0.len() != k {
+                        s.0 = vec![0.0; k];
+                    }
+                    s.0.clone()
+                })
+                .collect();
+            numpy::ndarray::Array2::from_shape_vec((m, k), flat)
+                .expect("rows")
+                .into_pyarray(py)
+        });
+        if let Some(s) = &state {
+            batch.set_item("state", s.clone())?;
+        }
+        let ns = py
+            .import("types")?
+            .getattr("SimpleNamespace")?
+            .call((), Some(&batch))?;
+        let out = self.func.bind(py).call1((ns,))?;
+        let bad = || {
+            PyTypeError::new_err(format!(
+                "{}: a vectorized decide returns (directions, stay): an ({m}, {dim}) array and {m} booleans",
+                self.name
+            ))
+        };
+        let out = out.cast::<PyTuple>().map_err(|_| bad())?;
+        if out.len() != 2 {
+            return Err(bad());
+        }
+        let (directions, stay) = (out.get_item(0)?, out.get_item(1)?);
+        // numpy arrays are read as they are; other sequences element by element.
+        let directions: Vec<f64> = match directions.cast::<PyArray2<f64>>() {
+            Ok(a) if a.shape() == [m, dim] => a.to_vec().map_err(|_| bad())?,
+            Ok(_) => return Err(bad()),
+            Err(_) => {
+                let rows: Vec<Vec<f64>> = directions.extract().map_err(|_| bad())?;
+                if rows.len() != m || rows.iter().any(|d| d.len() != dim) {
+                    return Err(bad());
+                }
+                rows.concat()
+            }
+        };
+        let stay: Vec<bool> = match stay.cast::<PyArray1<bool>>() {
+            Ok(a) => a.to_vec().map_err(|_| bad())?,
+            Err(_) => stay.extract().map_err(|_| bad())?,
+        };
+        if stay.len() != m {
+            return Err(bad());
+        }
+        if let (Some(k), Some(s)) = (self.memory, state) {
+            let back = s.to_vec()?;
+            for (i, st) in states.iter_mut().enumerate() {
+                st.0 = back[i * k..(i + 1) * k].to_vec();
+            }
+        }
+        Ok(directions
+            .chunks_exact(dim)
+            .zip(stay)
+            .map(|(d, s)| {
+                if s {
+                    Decision::Stay
+                } else {
+                    Decision::Step(V::from_slice(d))
+                }
+            })
+            .collect())
+    }
+}
+
+impl<M: PyModel> Algorithm for PyAlgorithm<M> {
+    const NAME: &'static str = "python";
+    type Sensing = M;
+    type Params = NoParams;
+    type State = PyState;
+
+    fn new(_: NoParams) -> Result<Self, String> {
+        Err("algorithms written in Python are made by monoculus.algorithm".into())
+    }
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn keeps_state(&self) -> bool {
+        self.memory.is_some()
+    }
+
+    fn decides_together(&self) -> bool {
+        self.vectorized
+    }
+
+    fn decide<V: Point>(
+        &self,
+        obs: &Observation<'_, M, V>,
+        state: &mut PyState,
+        rng: &mut Stream,
+    ) -> Decision<V> {
+        keep_thread_state();
+        Python::attach(|py| match self.call(py, obs, state, rng) {
+            Ok(d) => d,
+            Err(e) => self.fail(py, e),
+        })
+    }
+
+    fn decide_together<V: Point>(
+        &self,
+        obs: &[Observation<'_, M, V>],
+        states: &mut [&mut PyState],
+        rngs: &mut [&mut Stream],
+    ) -> Vec<Decision<V>> {
+        keep_thread_state();
+        Python::attach(|py| match self.call_together(py, obs, states, rngs) {
+            Ok(d) => d,
+            Err(e) => self.fail(py, e),
+        })
+    }
+}
+
+/// A Python algorithm as `monoculus.algorithm` declares it.
+pub struct Spec {
+    name: String,
+    model: Model,
+    func: Py<PyAny>,
+    memory: Option<usize>,
+    vectorized: bool,
+    defaults: Py<PyDict>,
+    stop: StopCriterion,
+}
+
+fn stop_of(name: &str) -> PyResult<StopCriterion> {
+    Ok(match name {
+        "quiescent" => StopCriterion::Quiescent,
+        "diameter" => StopCriterion::Diameter,
+        "quiescent_or_diameter" => StopCriterion::QuiescentOrDiameter,
+        "box" => StopCriterion::Box,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "stop {name:?}: quiescent, diameter, quiescent_or_diameter or box"
+            )));
+        }
+    })
+}
+
+impl Spec {
+    /// Reads a declaration: a dict with name, sensing, func, memory, vectorized, params
+    /// and stop.
+    pub fn read(d: &Bound<'_, PyDict>) -> PyResult<Spec> {
+        let get = |k: &str| -> PyResult<Bound<'_, PyAny>> {
+            d.get_item(k)?
+                .ok_or_else(|| PyValueError::new_err(format!("algorithm declaration without {k}")))
+        };
+        let name: String = get("name")?.extract()?;
+        let model = match get("sensing")?.extract::<String>()?.as_str() {
+            "directions" => Model::Directions,
+            "ld" => Model::Ld,
+            "ola" => Model::Ola,
+            "positions" => Model::Positions,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "sensing {other:?}: one of \"directions\", \"ld\", \"ola\", \"positions\""
+                )));
+            }
+        };
+        let memory: Option<usize> = get("memory")?.extract()?;
+        if memory == Some(0) {
+            return Err(PyValueError::new_err(
+                "memory: the number of floats each robot keeps, at least 1 (or None)",
+            ));
+        }
+        let defaults = match get("params")? {
+            p if p.is_none() => PyDict::new(d.py()),
+            p => p
+                .cast::<PyDict>()
+                .map_err(|_| PyTypeError::new_err("params: a dict of the parameters' defaults"))?
+                .copy()?,
+        };
+        // The defaults must be config values.
+        to_table(&defaults, "params")?;
+        let stop = match get("stop")? {
+            s if s.is_none() => StopCriterion::QuiescentOrDiameter,
+            s => stop_of(&s.extract::<String>()?)?,
+        };
+        Ok(Spec {
+            name,
+            model,
+            func: get("func")?.unbind(),
+            memory,
+            vectorized: get("vectorized")?.extract()?,
+            defaults: defaults.unbind(),
+            stop,
+        })
+    }
+
+    fn make<M: PyModel>(
+        &self,
+        given: &toml::Table,
+        errors: &Errors,
+    ) -> Result<(AlgorithmBox, toml::Table), ParamsError> {
+        Python::attach(|py| {
+            let params = self.defaults.bind(py).copy().map_err(|e| ParamsError {
+                key: String::new(),
+                message: e.to_string(),
+            })?;
+            for (k, v) in given {
+                if !params.contains(k).unwrap_or(false) {
+                    return Err(ParamsError {
+                        key: k.clone(),
+                        message: format!("{} has no parameter of that name", self.name),
+                    });
+                }
+                let v = toml_to_py(py, v).map_err(|e| ParamsError {
+                    key: k.clone(),
+                    message: e.to_string(),
+                })?;
+                params.set_item(k, v).map_err(|e| ParamsError {
+                    key: k.clone(),
+                    message: e.to_string(),
+                })?;
+            }
+            let resolved = to_table(&params, "").map_err(|e| ParamsError {
+                key: String::new(),
+                message: e.to_string(),
+            })?;
+            let algorithm = PyAlgorithm::<M> {
+                name: self.name.clone(),
+                func: self.func.clone_ref(py),
+                memory: self.memory,
+                vectorized: self.vectorized,
+                params: params.unbind(),
+                errors: errors.clone(),
+                model: PhantomData,
+            };
+            Ok((AlgorithmBox::new(algorithm), resolved))
+        })
+    }
+}
+
+/// A TOML value as a Python value.
+fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        toml::Value::String(s) => s.into_pyobject(py)?.into_any(),
+        toml::Value::Integer(i) => i.into_pyobject(py)?.into_any(),
+        toml::Value::Float(x) => x.into_pyobject(py)?.into_any(),
+        toml::Value::Boolean(b) => b.into_pyobject(py)?.to_owned().into_any(),
+        toml::Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any(),
+        toml::Value::Array(a) => {
+            let items: Vec<Bound<'py, PyAny>> = a
+                .iter()
+                .map(|x| toml_to_py(py, x))
+                .collect::<PyResult<_>>()?;
+            pyo3::types::PyList::new(py, items)?.into_any()
+        }
+        toml::Value::Table(t) => {
+            let d = PyDict::new(py);
+            for (k, x) in t {
+                d.set_item(k, toml_to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+    })
+}
+
+/// The paper's algorithms and the Python ones declared in `specs`; their exceptions go
+/// to `errors`.
+pub fn registry(specs: &[Spec], errors: &Errors) -> PyResult<Registry> {
+    let mut r = Registry::builtin();
+    for spec in specs {
+        let spec = Arc::new(Spec {
+            name: spec.name.clone(),
+            model: spec.model,
+            func: Python::attach(|py| spec.func.clone_ref(py)),
+            memory: spec.memory,
+            vectorized: spec.vectorized,
+            defaults: Python::attach(|py| spec.defaults.clone_ref(py)),
+            stop: spec.stop,
+        });
+        let errors = errors.clone();
+        let s = spec.clone();
+        let make: monoculus_experiments::registry::Make = match spec.model {
+            Model::Directions => Arc::new(move |t| s.make::<Directions>(t, &errors)),
+            Model::Ld => Arc::new(move |t| s.make::<Ld>(t, &errors)),
+            Model::Ola => Arc::new(move |t| s.make::<Ola>(t, &errors)),
+            Model::Positions => Arc::new(move |t| s.make::<Positions>(t, &errors)),
+        };
+        r.try_register_with(&spec.name, spec.model, spec.stop, make)
+            .map_err(PyValueError::new_err)?;
+    }
+    Ok(r)
+}

@@ -1,0 +1,173 @@
+//! `monoculus._native`: the Rust engine under the `monoculus` Python package. The
+//! package's Python layer (`monoculus/__init__.py`) is the public face; this module
+//! runs sweeps ([`run`]), steps simulations ([`simulation::Simulation`]) and turns
+//! Python functions into algorithms ([`algorithm`]).
+
+mod algorithm;
+mod convert;
+mod observation;
+mod simulation;
+mod threads;
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use monoculus_experiments::results::ResultsError;
+use monoculus_experiments::{RunOptions, SweepError, SweepReport, run_experiment};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::algorithm::{Errors, Spec};
+use crate::convert::{AlgorithmError, ConfigError};
+
+/// Runs `work` on a thread of its own while this one, detached from Python, checks for
+/// Ctrl-C every 50 ms: then `interrupt` is set (the work stops at the end of its current
+/// round) and, once the work has stopped, `KeyboardInterrupt` is raised.
+pub(crate) fn interruptible<T: Send + 'static>(
+    py: Python<'_>,
+    interrupt: Arc<AtomicBool>,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    let rx = Mutex::new(rx);
+    let handle = std::thread::spawn(move || {
+        let out = work();
+        threads::release_thread_state();
+        let _ = tx.send(out);
+    });
+    loop {
+        let got = py.detach(|| {
+            rx.lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .recv_timeout(Duration::from_millis(50))
+        });
+        match got {
+            Ok(v) => {
+                let _ = handle.join();
+                return Ok(v);
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    interrupt.store(true, Ordering::Relaxed);
+                    let _ = py.detach(|| rx.lock().unwrap_or_else(|p| p.into_inner()).recv());
+                    let _ = handle.join();
+                    return Err(e);
+                }
+            }
+            Err(RecvTimeoutError::Disconnected) => {
+                let _ = handle.join();
+                return Err(PyRuntimeError::new_err(
+                    "monoculus stopped on an internal error (a bug: please report it)",
+                ));
+            }
+        }
+    }
+}
+
+/// `monoculus.AlgorithmError` for runs that failed, with the Python exception of the
+/// first (if a Python algorithm raised one) as its cause.
+pub(crate) fn algorithm_error(py: Python<'_>, message: String, errors: &Errors) -> PyErr {
+    let err = AlgorithmError::new_err(message);
+    if let Some(cause) = errors.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        err.set_cause(py, Some(cause));
+    }
+    err
+}
+
+fn specs(algorithms: &[Bound<'_, PyDict>]) -> PyResult<Vec<Spec>> {
+    algorithms.iter().map(Spec::read).collect()
+}
+
+fn results_error(py: Python<'_>, e: SweepError) -> PyErr {
+    match e {
+        SweepError::Results(r @ (ResultsError::Mismatch { .. } | ResultsError::Corrupt { .. })) => {
+            let _ = py;
+            ConfigError::new_err(r.to_string())
+        }
+        other => PyRuntimeError::new_err(other.to_string()),
+    }
+}
+
+/// Runs every cell x seed of `config` into the results folder `out` (resuming it), as
+/// `monoculus run` does; `algorithms` are the Python algorithms declared so far.
+#[pyfunction]
+#[pyo3(signature = (config, set, out, threads, algorithms))]
+fn run(
+    py: Python<'_>,
+    config: &Bound<'_, PyAny>,
+    set: Option<&Bound<'_, PyAny>>,
+    out: PathBuf,
+    threads: Option<usize>,
+    algorithms: Vec<Bound<'_, PyDict>>,
+) -> PyResult<()> {
+    let errors: Errors = Arc::new(Mutex::new(None));
+    let registry = algorithm::registry(&specs(&algorithms)?, &errors)?;
+    let (exp, _) = convert::experiment(py, config, set, &registry)?;
+    if threads == Some(0) {
+        return Err(PyValueError::new_err("threads: at least 1"));
+    }
+    let pool = threads::pool(threads).map_err(PyRuntimeError::new_err)?;
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let options = RunOptions {
+        interrupt: Some(interrupt.clone()),
+        ..RunOptions::default()
+    };
+    let report: Result<SweepReport, SweepError> = interruptible(py, interrupt, move || {
+        pool.install(|| run_experiment(&exp, &out, options, &()))
+    })?;
+    let report = report.map_err(|e| results_error(py, e))?;
+    if let Some((cell, seed, message)) = report.failed.first() {
+        let cell = if cell.is_empty() { "-" } else { cell };
+        return Err(algorithm_error(
+            py,
+            format!(
+                "{} of {} runs failed (recorded in {}; the others are in runs.csv): cell {cell}, seed {seed}: {message}",
+                report.failed.len(),
+                report.total,
+                report.failures_path.display()
+            ),
+            &errors,
+        ));
+    }
+    Ok(())
+}
+
+/// Checks a declaration of `monoculus.algorithm` (its sensing, memory, params, stop).
+#[pyfunction]
+fn check_algorithm(declaration: &Bound<'_, PyDict>) -> PyResult<()> {
+    Spec::read(declaration).map(|_| ())
+}
+
+/// Silences the default panic message of an algorithm's panic (it becomes the run's
+/// failure, reported with the run); other panics are reported as usual.
+fn quiet_algorithm_panics() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let default = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !monoculus_core::algorithms::in_algorithm() {
+                default(info);
+            }
+        }));
+    });
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    quiet_algorithm_panics();
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(check_algorithm, m)?)?;
+    m.add_class::<simulation::Simulation>()?;
+    m.add_class::<observation::Rng>()?;
+    m.add_class::<observation::DirectionsObservation>()?;
+    m.add_class::<observation::LdObservation>()?;
+    m.add_class::<observation::OlaObservation>()?;
+    m.add_class::<observation::PositionsObservation>()?;
+    m.add("ConfigError", m.py().get_type::<ConfigError>())?;
+    m.add("AlgorithmError", m.py().get_type::<AlgorithmError>())?;
+    Ok(())
+}

@@ -1,0 +1,30 @@
+"""The Python code of docs/python.md runs as written (in order, in one namespace, from
+the repository root, as a reader would paste it)."""
+
+import pathlib
+import re
+
+import monoculus
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def test_the_guide_s_code_runs(monkeypatch):
+    text = (ROOT / "docs" / "python.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert len(blocks) >= 4
+    monkeypatch.chdir(ROOT)
+    namespace = {}
+    for block in blocks:
+        exec(compile(block, "docs/python.md", "exec"), namespace)
+    assert "my_locality" in monoculus.algorithms() and "toward_one" in monoculus.algorithms()
+    runs = monoculus.run(
+        {"name": "doc", "seeds": 2, "swarm": {"n": 20, "init": "square"}, "algorithm": {"name": "toward_one"}, "stop": {"max_rounds": 5}}
+    )
+    assert len(runs) == 2
+
+
+def test_the_guide_s_first_line_runs():
+    text = (ROOT / "docs" / "python.md").read_text()
+    line = re.search(r'python -c "(.*)"', text).group(1)
+    exec(compile(line, "docs/python.md", "exec"), {})
