@@ -80,9 +80,8 @@ pub struct PyAlgorithm<M> {
 impl<M: PyModel> PyAlgorithm<M> {
     /// Records the first exception and fails the activation (a panic, which the engine
     /// turns into the run's failure, naming the robot and round).
-    fn fail(&self, py: Python<'_>, e: PyErr) -> ! {
+    fn fail(&self, e: PyErr) -> ! {
         let text = e.to_string();
-        let _ = py;
         let mut first = self.errors.lock().unwrap_or_else(|p| p.into_inner());
         if first.is_none() {
             *first = Some(e);
@@ -95,11 +94,15 @@ impl<M: PyModel> PyAlgorithm<M> {
         if out.is_none() {
             return Ok(Decision::Stay);
         }
-        let c: Vec<f64> = match out.cast::<PyArray1<f64>>() {
-            Ok(a) => a.to_vec().ok(),
+        // A float array is read as it is (of any strides); another sequence item by item.
+        let c: Option<Vec<f64>> = match out.cast::<PyArray1<f64>>() {
+            Ok(a) => Some(
+                a.to_vec()
+                    .unwrap_or_else(|_| a.readonly().as_array().to_vec()),
+            ),
             Err(_) => out.extract().ok(),
-        }
-        .ok_or_else(|| {
+        };
+        let c = c.ok_or_else(|| {
             PyTypeError::new_err(format!(
                 "{}: decide returned {}, not a direction (an array or tuple of {} numbers) or None",
                 self.name,
@@ -172,10 +175,10 @@ impl<M: PyModel> PyAlgorithm<M> {
             }
         }
         const DRAWS: usize = 8;
-        let random: Vec<f64> = rngs
-            .iter_mut()
-            .flat_map(|r| (0..DRAWS).map(|_| r.uniform()).collect::<Vec<_>>())
-            .collect();
+        let mut random = Vec::with_capacity(m * DRAWS);
+        for r in rngs.iter_mut() {
+            random.extend((0..DRAWS).map(|_| r.uniform()));
+        }
         let batch = PyDict::new(py);
         let total = dirs.len() / dim;
         batch.set_item("count", m)?;
@@ -240,7 +243,7 @@ impl<M: PyModel> PyAlgorithm<M> {
         let (directions, stay) = (out.get_item(0)?, out.get_item(1)?);
         // numpy arrays are read as they are; other sequences element by element.
         let directions: Vec<f64> = match directions.cast::<PyArray2<f64>>() {
-            Ok(a) if a.shape() == [m, dim] => a.to_vec().map_err(|_| bad())?,
+            Ok(a) if a.shape() == [m, dim] => a.readonly().as_array().iter().copied().collect(),
             Ok(_) => return Err(bad()),
             Err(_) => {
                 let rows: Vec<Vec<f64>> = directions.extract().map_err(|_| bad())?;
@@ -251,7 +254,7 @@ impl<M: PyModel> PyAlgorithm<M> {
             }
         };
         let stay: Vec<bool> = match stay.cast::<PyArray1<bool>>() {
-            Ok(a) => a.to_vec().map_err(|_| bad())?,
+            Ok(a) => a.readonly().as_array().to_vec(),
             Err(_) => stay.extract().map_err(|_| bad())?,
         };
         if stay.len() != m {
@@ -308,7 +311,7 @@ impl<M: PyModel> Algorithm for PyAlgorithm<M> {
         keep_thread_state();
         Python::attach(|py| match self.call(py, obs, state, rng) {
             Ok(d) => d,
-            Err(e) => self.fail(py, e),
+            Err(e) => self.fail(e),
         })
     }
 
@@ -321,7 +324,7 @@ impl<M: PyModel> Algorithm for PyAlgorithm<M> {
         keep_thread_state();
         Python::attach(|py| match self.call_together(py, obs, states, rngs) {
             Ok(d) => d,
-            Err(e) => self.fail(py, e),
+            Err(e) => self.fail(e),
         })
     }
 }
@@ -337,18 +340,16 @@ pub struct Spec {
     stop: StopCriterion,
 }
 
-fn stop_of(name: &str) -> PyResult<StopCriterion> {
-    Ok(match name {
-        "quiescent" => StopCriterion::Quiescent,
-        "diameter" => StopCriterion::Diameter,
-        "quiescent_or_diameter" => StopCriterion::QuiescentOrDiameter,
-        "box" => StopCriterion::Box,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "stop {name:?}: quiescent, diameter, quiescent_or_diameter or box"
-            )));
-        }
-    })
+/// The one of `all` whose `name` is `given`; else an error naming the key `what` and
+/// listing the names.
+fn named<T: Copy>(all: &[T], name: fn(T) -> &'static str, what: &str, given: &str) -> PyResult<T> {
+    all.iter()
+        .copied()
+        .find(|&x| name(x) == given)
+        .ok_or_else(|| {
+            let names: Vec<_> = all.iter().map(|&x| format!("{:?}", name(x))).collect();
+            PyValueError::new_err(format!("{what} {given:?}: one of {}", names.join(", ")))
+        })
 }
 
 impl Spec {
@@ -360,17 +361,12 @@ impl Spec {
                 .ok_or_else(|| PyValueError::new_err(format!("algorithm declaration without {k}")))
         };
         let name: String = get("name")?.extract()?;
-        let model = match get("sensing")?.extract::<String>()?.as_str() {
-            "directions" => Model::Directions,
-            "ld" => Model::Ld,
-            "ola" => Model::Ola,
-            "positions" => Model::Positions,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "sensing {other:?}: one of \"directions\", \"ld\", \"ola\", \"positions\""
-                )));
-            }
-        };
+        let model = named(
+            &[Model::Directions, Model::Ld, Model::Ola, Model::Positions],
+            Model::name,
+            "sensing",
+            &get("sensing")?.extract::<String>()?,
+        )?;
         let memory: Option<usize> = get("memory")?.extract()?;
         if memory == Some(0) {
             return Err(PyValueError::new_err(
@@ -388,7 +384,17 @@ impl Spec {
         to_table(&defaults, "params")?;
         let stop = match get("stop")? {
             s if s.is_none() => StopCriterion::QuiescentOrDiameter,
-            s => stop_of(&s.extract::<String>()?)?,
+            s => named(
+                &[
+                    StopCriterion::Quiescent,
+                    StopCriterion::Diameter,
+                    StopCriterion::QuiescentOrDiameter,
+                    StopCriterion::Box,
+                ],
+                StopCriterion::name,
+                "stop",
+                &s.extract::<String>()?,
+            )?,
         };
         Ok(Spec {
             name,
@@ -470,20 +476,12 @@ fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAn
     })
 }
 
-/// The paper's algorithms and the Python ones declared in `specs`; their exceptions go
-/// to `errors`.
-pub fn registry(specs: &[Spec], errors: &Errors) -> PyResult<Registry> {
+/// The paper's algorithms and the Python ones of the `declarations` of
+/// `monoculus.algorithm`; their exceptions go to `errors`.
+pub fn registry(declarations: &[Bound<'_, PyDict>], errors: &Errors) -> PyResult<Registry> {
     let mut r = Registry::builtin();
-    for spec in specs {
-        let spec = Arc::new(Spec {
-            name: spec.name.clone(),
-            model: spec.model,
-            func: Python::attach(|py| spec.func.clone_ref(py)),
-            memory: spec.memory,
-            vectorized: spec.vectorized,
-            defaults: Python::attach(|py| spec.defaults.clone_ref(py)),
-            stop: spec.stop,
-        });
+    for d in declarations {
+        let spec = Arc::new(Spec::read(d)?);
         let errors = errors.clone();
         let s = spec.clone();
         let make: monoculus_experiments::registry::Make = match spec.model {

@@ -78,14 +78,9 @@ pub(crate) fn algorithm_error(py: Python<'_>, message: String, errors: &Errors) 
     err
 }
 
-fn specs(algorithms: &[Bound<'_, PyDict>]) -> PyResult<Vec<Spec>> {
-    algorithms.iter().map(Spec::read).collect()
-}
-
-fn results_error(py: Python<'_>, e: SweepError) -> PyErr {
+fn results_error(e: SweepError) -> PyErr {
     match e {
         SweepError::Results(r @ (ResultsError::Mismatch { .. } | ResultsError::Corrupt { .. })) => {
-            let _ = py;
             ConfigError::new_err(r.to_string())
         }
         other => PyRuntimeError::new_err(other.to_string()),
@@ -105,7 +100,7 @@ fn run(
     algorithms: Vec<Bound<'_, PyDict>>,
 ) -> PyResult<()> {
     let errors: Errors = Arc::new(Mutex::new(None));
-    let registry = algorithm::registry(&specs(&algorithms)?, &errors)?;
+    let registry = algorithm::registry(&algorithms, &errors)?;
     let (exp, _) = convert::experiment(py, config, set, &registry)?;
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads: at least 1"));
@@ -119,7 +114,7 @@ fn run(
     let report: Result<SweepReport, SweepError> = interruptible(py, interrupt, move || {
         pool.install(|| run_experiment(&exp, &out, options, &()))
     })?;
-    let report = report.map_err(|e| results_error(py, e))?;
+    let report = report.map_err(results_error)?;
     if let Some((cell, seed, message)) = report.failed.first() {
         let cell = if cell.is_empty() { "-" } else { cell };
         return Err(algorithm_error(

@@ -31,8 +31,15 @@ pub trait ObsApi {
     fn random_far(&self, _rng: &mut Stream) -> Option<Vec<f64>> {
         unreachable!("only LD observations have far points")
     }
-    /// Every visible point: directions (flat) and far bits (false but for LD).
-    fn seen(&self) -> (Vec<f64>, Vec<bool>);
+    /// Every visible point's direction, flat (a full look).
+    fn directions(&self) -> Vec<f64>;
+    /// Every visible point: directions (flat) and far bits (false but for LD), from one
+    /// full look.
+    fn seen(&self) -> (Vec<f64>, Vec<bool>) {
+        let d = self.directions();
+        let n = d.len() / self.dim();
+        (d, vec![false; n])
+    }
     fn side_occupied(&self, _axis: usize, _side: Side) -> bool {
         unreachable!("only OLA observations have sides")
     }
@@ -66,16 +73,14 @@ macro_rules! common {
         fn random_visible(&self, rng: &mut Stream) -> Option<Vec<f64>> {
             Observation::random_visible(self, rng).map(coords)
         }
+        fn directions(&self) -> Vec<f64> {
+            flat(Observation::directions(self))
+        }
     };
 }
 
 impl<V: Point> ObsApi for Observation<'_, Directions, V> {
     common!();
-    fn seen(&self) -> (Vec<f64>, Vec<bool>) {
-        let d = self.directions();
-        let n = d.len();
-        (flat(d), vec![false; n])
-    }
 }
 
 impl<V: Point> ObsApi for Observation<'_, Ld, V> {
@@ -94,11 +99,6 @@ impl<V: Point> ObsApi for Observation<'_, Ld, V> {
 
 impl<V: Point> ObsApi for Observation<'_, Ola, V> {
     common!();
-    fn seen(&self) -> (Vec<f64>, Vec<bool>) {
-        let d = self.directions();
-        let n = d.len();
-        (flat(d), vec![false; n])
-    }
     fn side_occupied(&self, axis: usize, side: Side) -> bool {
         Observation::side_occupied(self, axis, side)
     }
@@ -109,11 +109,6 @@ impl<V: Point> ObsApi for Observation<'_, Ola, V> {
 
 impl<V: Point> ObsApi for Observation<'_, Positions, V> {
     common!();
-    fn seen(&self) -> (Vec<f64>, Vec<bool>) {
-        let d = self.directions();
-        let n = d.len();
-        (flat(d), vec![false; n])
-    }
     fn relative_positions(&self) -> Vec<f64> {
         flat(Observation::relative_positions(self))
     }
@@ -231,7 +226,7 @@ fn rng_of(rng: &Bound<'_, Rng>) -> Guard {
 
 fn directions<'py>(py: Python<'py>, g: &Guard) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let o = g.obs()?;
-    let (d, _) = o.seen();
+    let d = o.directions();
     let dim = o.dim();
     let k = d.len() / dim;
     Ok(numpy::ndarray::Array2::from_shape_vec((k, dim), d)

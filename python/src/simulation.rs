@@ -95,11 +95,7 @@ impl Simulation {
         algorithms: Vec<Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let errors: Errors = Arc::new(Mutex::new(None));
-        let specs: Vec<_> = algorithms
-            .iter()
-            .map(crate::algorithm::Spec::read)
-            .collect::<PyResult<_>>()?;
-        let registry = crate::algorithm::registry(&specs, &errors)?;
+        let registry = crate::algorithm::registry(&algorithms, &errors)?;
         let (exp, _) = crate::convert::experiment(py, config, set, &registry)?;
         let Some(c) = exp.cells.get(cell) else {
             return Err(PyIndexError::new_err(format!(

@@ -186,3 +186,31 @@ def test_declarations_are_checked():
         monoculus.algorithm("x", memory=0)(lambda obs, rng, s: None)
     with pytest.raises(ValueError, match="stop"):
         monoculus.algorithm("x", stop="never")(lambda obs, rng: None)
+
+
+@monoculus.algorithm("py_first_seen", sensing="ld", stop="quiescent")
+def first_seen(obs, rng):
+    d = obs.directions
+    return d[0] if len(d) else None
+
+
+@monoculus.algorithm("py_first_seen_strided", sensing="ld", stop="quiescent")
+def first_seen_strided(obs, rng):
+    d = np.asfortranarray(obs.directions)  # its rows are not contiguous
+    return d[0] if len(d) else None
+
+
+@monoculus.algorithm("py_first_seen_vectorized", sensing="ld", stop="quiescent", vectorized=True)
+def first_seen_vectorized(batch):
+    counts = np.diff(batch.offsets)
+    stay = counts == 0
+    directions = np.zeros((batch.count, batch.dim))
+    directions[~stay] = batch.directions[batch.offsets[:-1][~stay]]
+    return np.asfortranarray(directions), np.asfortranarray(stay)
+
+
+def test_arrays_of_any_strides_are_read():
+    c = config(["py_first_seen", "py_first_seen_strided", "py_first_seen_vectorized"], n=12, seeds=3, stop={"max_rounds": 20})
+    runs = monoculus.run(c)
+    for other in ["py_first_seen_strided", "py_first_seen_vectorized"]:
+        pd.testing.assert_frame_equal(by_algorithm(runs, "py_first_seen"), by_algorithm(runs, other))

@@ -36,7 +36,6 @@ __all__ = [
 
 __version__ = "0.2.0"
 
-_SENSING = ("directions", "ld", "ola", "positions")
 _REGISTERED: dict[str, dict[str, Any]] = {}
 
 
@@ -72,21 +71,19 @@ def algorithm(
     ``batch.params``; it returns ``(directions, stay)``: an ``(count, dim)`` array and
     ``count`` booleans.
     """
-    if sensing not in _SENSING:
-        raise ValueError(f"sensing {sensing!r}: one of {', '.join(_SENSING)}")
+    declaration = {
+        "name": name,
+        "sensing": sensing,
+        "memory": memory,
+        "params": dict(params) if params is not None else None,
+        "vectorized": bool(vectorized),
+        "stop": stop,
+        "func": None,
+    }
+    _native.check_algorithm(declaration)  # a bad declaration fails here, at its line
 
     def register(decide: Callable[..., Any]) -> Callable[..., Any]:
-        declaration = {
-            "name": name,
-            "sensing": sensing,
-            "memory": memory,
-            "params": dict(params) if params is not None else None,
-            "vectorized": bool(vectorized),
-            "stop": stop,
-            "func": decide,
-        }
-        _native.check_algorithm(declaration)
-        _REGISTERED[name] = declaration
+        _REGISTERED[name] = dict(declaration, func=decide)
         return decide
 
     return register
