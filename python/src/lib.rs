@@ -131,6 +131,64 @@ fn run(
     Ok(())
 }
 
+/// Hunts with the `[hunt]` section of `config` (one cell, or `cell`), as `monoculus
+/// hunt` does, writing the folder `out`; returns summary.json's text.
+#[pyfunction]
+#[pyo3(signature = (config, set, out, threads, algorithms, cell=None))]
+fn hunt(
+    py: Python<'_>,
+    config: &Bound<'_, PyAny>,
+    set: Option<&Bound<'_, PyAny>>,
+    out: PathBuf,
+    threads: Option<usize>,
+    algorithms: Vec<Bound<'_, PyDict>>,
+    cell: Option<usize>,
+) -> PyResult<String> {
+    use monoculus_experiments::hunt::{FolderWriter, Hunt, HuntOptions, HuntReport};
+    let errors: Errors = Arc::new(Mutex::new(None));
+    let registry = algorithm::registry(&algorithms, &errors)?;
+    let (exp, path) = convert::experiment(py, config, set, &registry)?;
+    let label = path.map_or_else(|| "<dict>".to_string(), |p| p.display().to_string());
+    let picked = match (cell, exp.cells.len()) {
+        (Some(k), n) if k < n => k,
+        (None, 1) => 0,
+        (Some(k), n) => {
+            return Err(PyValueError::new_err(format!(
+                "cell {k}: the config has {n} cells"
+            )));
+        }
+        (None, n) => {
+            return Err(ConfigError::new_err(format!(
+                "{label}: the config has {n} cells; choose one with cell=K or fix the swept keys with set"
+            )));
+        }
+    };
+    let hunt =
+        Hunt::new(&exp, &exp.cells[picked], &label).map_err(|e| convert::config_error(py, &e))?;
+    if threads == Some(0) {
+        return Err(PyValueError::new_err("threads: at least 1"));
+    }
+    let pool = threads::pool(threads).map_err(PyRuntimeError::new_err)?;
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let flag = interrupt.clone();
+    let written: Result<String, String> = interruptible(py, interrupt, move || {
+        let html = |replay: &monoculus_experiments::replay::Replay, path: &std::path::Path| {
+            monoculus_plot::write_replay_html(replay, path).map_err(|e| e.to_string())
+        };
+        let writer = FolderWriter::new(&out, &hunt, &registry, Some(&html));
+        let report = pool.install(|| {
+            hunt.run(&HuntOptions {
+                interrupt: Some(flag),
+                on_progress: None,
+                on_best: Some(&|r: &HuntReport| writer.on_best(r)),
+            })
+        });
+        writer.finish(&report)?;
+        Ok(monoculus_experiments::hunt::summary_json(&hunt, &report))
+    })?;
+    written.map_err(PyRuntimeError::new_err)
+}
+
 /// Checks a declaration of `monoculus.algorithm` (its sensing, memory, params, stop).
 #[pyfunction]
 fn check_algorithm(declaration: &Bound<'_, PyDict>) -> PyResult<()> {
@@ -156,6 +214,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     quiet_algorithm_panics();
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check_algorithm, m)?)?;
+    m.add_function(wrap_pyfunction!(hunt, m)?)?;
     m.add_class::<simulation::Simulation>()?;
     m.add_class::<observation::Rng>()?;
     m.add_class::<observation::DirectionsObservation>()?;

@@ -3,6 +3,7 @@
 //! `config.toml`.
 
 pub mod config;
+pub mod hunt;
 pub mod limits;
 pub mod look;
 pub mod output;

@@ -90,6 +90,15 @@ pub fn check_robots(n: u64) -> Result<(), String> {
     Ok(())
 }
 
+/// The most robots a hunt searches (each candidate is a whole run).
+pub const MAX_HUNT_ROBOTS: usize = 10_000;
+
+/// The most candidates a hunt keeps side by side.
+pub const MAX_HUNT_POPULATION: usize = 4096;
+
+/// The longest SSYNC schedule a hunt searching subsets keeps (`stop.max_rounds`).
+pub const MAX_HUNT_SCHEDULE: u64 = 100_000;
+
 #[cfg(test)]
 mod tests {
     use super::*;

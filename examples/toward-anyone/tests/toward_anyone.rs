@@ -44,3 +44,51 @@ fn it_grows_the_hull_where_converge_locality_cannot() {
     assert!(grew("toward_anyone") >= 5, "{}", grew("toward_anyone"));
     assert_eq!(grew("converge_locality"), 0);
 }
+
+/// `hunt` run by the user's own binary catches TowardAnyone growing the hull from random
+/// starts, and the user's binary replays what it wrote.
+#[test]
+fn the_hunt_catches_it_growing_the_hull() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = Path::new(env!("CARGO_MANIFEST_DIR")).join("hunt.toml");
+    let out = tmp.path().join("hunt");
+    let bin = env!("CARGO_BIN_EXE_toward-anyone");
+    let hunt = Command::new(bin)
+        .args([
+            "hunt",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(
+        hunt.status.success(),
+        "{}",
+        String::from_utf8_lossy(&hunt.stderr)
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"found\": true"), "{summary}");
+    assert!(
+        summary.contains("\"algorithm\": \"toward_anyone\""),
+        "{summary}"
+    );
+    let replayed = tmp.path().join("replayed");
+    let run = Command::new(bin)
+        .args(["run", out.join("reproduce.toml").to_str().unwrap()])
+        .args(["--out", replayed.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let runs = std::fs::read_to_string(replayed.join("runs.csv")).unwrap();
+    let mut lines = runs.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let grew = header.iter().position(|c| *c == "hull_grew").unwrap();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(row[grew], "true", "{runs}");
+}

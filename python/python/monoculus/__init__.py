@@ -31,6 +31,7 @@ __all__ = [
     "Simulation",
     "algorithm",
     "algorithms",
+    "hunt",
     "run",
 ]
 
@@ -134,6 +135,59 @@ def run(
     with tempfile.TemporaryDirectory(prefix="monoculus-") as folder:
         _native.run(_config(config), set, folder, threads, _declared())
         return _frame(os.path.join(folder, "runs.csv"))
+
+
+def hunt(
+    config: _Config,
+    set: _Set = None,
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
+    threads: Optional[int] = None,
+    cell: Optional[int] = None,
+) -> dict[str, Any]:
+    """Searches for a counterexample to the config's ``[hunt]`` property, shrinks it and
+    writes it, as ``monoculus hunt`` does.
+
+    Returns ``summary.json`` as a dict (``property``, ``found``, ``shrunk``, ``score``,
+    ``n``, ``round``, ``evaluations``, ``seconds``, ``seed``, ...) with two more keys:
+    ``positions``, the counterexample's start as an ``(n, dim)`` array (``None`` if no
+    run completed), and ``out``, the folder written (``None`` without ``out``: then a
+    temporary folder is used and removed). The folder holds ``positions.csv``,
+    ``schedule.csv`` (when the schedule matters), ``reproduce.toml`` (replay it with
+    :func:`run`), ``replay.html`` and ``summary.json``. Algorithms declared with
+    :func:`algorithm` can be hunted. Ctrl-C stops the hunt, keeping its best candidate
+    in ``out`` marked as not shrunk, and raises ``KeyboardInterrupt``.
+    """
+    import json
+
+    def hunt_into(folder: str) -> dict[str, Any]:
+        text = _native.hunt(_config(config), set, folder, threads, _declared(), cell)
+        summary: dict[str, Any] = json.loads(text)
+        if summary["failures"]:
+            import warnings
+
+            warnings.warn(
+                f"{summary['failures']} of the hunt's runs failed; the first: "
+                f"{summary['first_failure']}",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+        path = os.path.join(folder, "positions.csv")
+        summary["positions"] = (
+            np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+            if os.path.exists(path)
+            else None
+        )
+        return summary
+
+    if out is not None:
+        folder = os.fspath(out)
+        summary = hunt_into(folder)
+        summary["out"] = folder
+        return summary
+    with tempfile.TemporaryDirectory(prefix="monoculus-hunt-") as folder:
+        summary = hunt_into(folder)
+        summary["out"] = None
+        return summary
 
 
 def _value(text: str) -> Any:

@@ -114,4 +114,12 @@ def run(
     threads: Optional[int],
     algorithms: list[dict[str, Any]],
 ) -> None: ...
+def hunt(
+    config: Any,
+    set: Any,
+    out: str,
+    threads: Optional[int],
+    algorithms: list[dict[str, Any]],
+    cell: Optional[int] = None,
+) -> str: ...
 def check_algorithm(declaration: dict[str, Any]) -> None: ...

@@ -16,6 +16,7 @@ macro_rules! out {
 }
 
 mod check;
+mod hunt;
 mod impossibility;
 mod look;
 mod merge;
@@ -69,6 +70,9 @@ enum Command {
     Merge(merge::MergeArgs),
     /// Write (and with --submit, submit) Slurm job-array scripts for a sweep or stress runs.
     Slurm(slurm::SlurmArgs),
+    /// Search for a start (and schedule) that breaks the config's `[hunt]` property, shrink
+    /// it, and write it with a config that replays it.
+    Hunt(hunt::HuntArgs),
 }
 
 /// How a command failed: bad input (exit status 2), standard output gone (a closed pipe:
@@ -243,5 +247,6 @@ fn run_command(cli: Cli, registry: &Registry) -> Result<(), Failure> {
         Command::Merge(a) => merge::merge(a, registry),
         Command::Replay(a) => replay::replay(a, registry),
         Command::Slurm(a) => slurm::slurm(a, registry),
+        Command::Hunt(a) => hunt::hunt(a, registry),
     }
 }

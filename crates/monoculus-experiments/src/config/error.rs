@@ -71,3 +71,25 @@ impl Source<'_> {
         }
     }
 }
+
+impl Experiment {
+    /// An error about `key` of this experiment's config (read from `file`): with the line
+    /// of the key, or naming `--set` when an override set it.
+    pub fn error_at(&self, file: &str, key: &str, message: impl Into<String>) -> ConfigError {
+        Source {
+            label: file.to_string(),
+            text: &self.source,
+            overridden: self
+                .overrides
+                .iter()
+                .map(|o| {
+                    o.split_once('=')
+                        .map_or(o.as_str(), |(k, _)| k)
+                        .trim()
+                        .to_string()
+                })
+                .collect(),
+        }
+        .error(key, message)
+    }
+}

@@ -115,6 +115,15 @@ impl Cell {
         if let Some(p) = &self.file_positions {
             return p.points();
         }
+        self.generated_positions(self.n(), seed)
+    }
+
+    /// `n` positions drawn as `[swarm]` describes them (`init`, `side`, ...) for `seed`
+    /// (`init = "file"` has no such draw: the file's positions, all of them).
+    pub fn generated_positions<P: Point>(&self, n: usize, seed: u64) -> Vec<P> {
+        if let Some(p) = &self.file_positions {
+            return p.points();
+        }
         let s = &self.spec.swarm;
         let side = s.side;
         let shape = match s.init {
@@ -129,6 +138,6 @@ impl Cell {
             },
             InitKind::File => unreachable!("file positions are loaded at validation"),
         };
-        generate(&shape, self.n(), seed)
+        generate(&shape, n, seed)
     }
 }

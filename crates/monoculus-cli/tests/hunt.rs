@@ -1,0 +1,322 @@
+//! `monoculus hunt`: counterexamples found, shrunk, written and replayed by `run`; the
+//! same result whatever the thread count; bad input refused; an interrupted hunt keeps
+//! its best candidate.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{fails, monoculus, ok, s, write_config};
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
+}
+
+/// The value of `key` in summary.json (its text after the colon).
+fn field(dir: &Path, key: &str) -> String {
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    text.lines()
+        .find_map(|l| {
+            l.trim()
+                .strip_prefix(&format!("\"{key}\": "))
+                .map(|v| v.trim_end_matches(',').to_string())
+        })
+        .unwrap_or_else(|| panic!("no {key} in {text}"))
+}
+
+/// The one row of runs.csv of a results folder: column -> value.
+fn run_row(dir: &Path) -> std::collections::HashMap<String, String> {
+    let mut r = csv::Reader::from_path(dir.join("runs.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 1);
+    h.iter()
+        .zip(rows[0].iter())
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
+}
+
+/// Hunts `config` into `dir/hunt` and replays its reproduce.toml into `dir/replayed`.
+fn hunt_and_replay(dir: &Path, config: &Path, extra: &[&str]) -> (PathBuf, PathBuf) {
+    let out = dir.join("hunt");
+    let mut args = vec!["hunt", s(config), "--out", s(&out), "--quiet"];
+    args.extend_from_slice(extra);
+    ok(&args);
+    let replayed = dir.join("replayed");
+    ok(&["run", s(&out.join("reproduce.toml")), "--out", s(&replayed)]);
+    (out, replayed)
+}
+
+#[test]
+fn median_and_angle_bisector_grow_the_hull_shrunk_to_at_most_six_robots_and_run_shows_it() {
+    for name in ["median", "angle_bisector"] {
+        let dir = tempfile::tempdir().unwrap();
+        let (out, replayed) =
+            hunt_and_replay(dir.path(), &repo(&format!("configs/hunt/{name}.toml")), &[]);
+        assert_eq!(field(&out, "found"), "true", "{name}");
+        assert_eq!(field(&out, "shrunk"), "true", "{name}");
+        let n: usize = field(&out, "n").parse().unwrap();
+        assert!(n <= 6, "{name}: shrunk to {n} robots");
+        for f in ["positions.csv", "reproduce.toml", "replay.html"] {
+            assert!(out.join(f).exists(), "{name}: {f}");
+        }
+        // FSYNC: the schedule does not matter, and none is written.
+        assert!(!out.join("schedule.csv").exists());
+        let positions = std::fs::read_to_string(out.join("positions.csv")).unwrap();
+        assert_eq!(positions.lines().count(), n + 1);
+        // Coordinates on a coarse grid: at most 3 decimals for most of them.
+        let row = run_row(&replayed);
+        assert_eq!(row["hull_grew"], "true", "{name}: {row:?}");
+        assert_eq!(row["n"], n.to_string());
+        assert_eq!(row["rounds"], field(&out, "round"));
+    }
+}
+
+#[test]
+fn converge_locality_grows_no_hull_and_says_how_much_was_searched() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("h");
+    ok(&[
+        "hunt",
+        s(&repo("configs/hunt/converge_locality.toml")),
+        "--out",
+        s(&out),
+        "--quiet",
+        "--set",
+        "hunt.evaluations=3000",
+    ]);
+    assert_eq!(field(&out, "found"), "false");
+    assert_eq!(field(&out, "evaluations"), "3000");
+    assert_eq!(field(&out, "failures"), "0");
+    // The closest candidate is written, and replays without growth.
+    let replayed = dir.path().join("r");
+    ok(&["run", s(&out.join("reproduce.toml")), "--out", s(&replayed)]);
+    assert_eq!(run_row(&replayed)["hull_grew"], "false");
+}
+
+#[test]
+fn the_same_seed_finds_the_same_whatever_the_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    for (config, evaluations) in [("median", "20000"), ("converge_locality", "1500")] {
+        let mut seen = Vec::new();
+        for threads in ["1", "2"] {
+            let out = dir.path().join(format!("{config}-{threads}"));
+            ok(&[
+                "hunt",
+                s(&repo(&format!("configs/hunt/{config}.toml"))),
+                "--out",
+                s(&out),
+                "--quiet",
+                "--threads",
+                threads,
+                "--set",
+                &format!("hunt.evaluations={evaluations}"),
+                "--set",
+                "hunt.seed=7",
+            ]);
+            let summary: Vec<String> = std::fs::read_to_string(out.join("summary.json"))
+                .unwrap()
+                .lines()
+                .filter(|l| !l.contains("\"seconds\""))
+                .map(String::from)
+                .collect();
+            let positions = std::fs::read_to_string(out.join("positions.csv")).unwrap();
+            seen.push((summary, positions));
+        }
+        assert_eq!(seen[0], seen[1], "{config}");
+    }
+}
+
+#[test]
+fn an_ssync_counterexample_carries_its_schedule_and_replays_from_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = write_config(
+        dir.path(),
+        r#"
+name = "ssync-hull"
+[swarm]
+n = 5
+init = "square"
+side = 3.0
+[algorithm]
+name = "median"
+[scheduler]
+kind = "ssync"
+p = 0.5
+[stop]
+max_rounds = 20
+[hunt]
+property = "hull_grows"
+n_min = 3
+n_max = 8
+evaluations = 20000
+"#,
+    );
+    let (out, replayed) = hunt_and_replay(dir.path(), &config, &[]);
+    assert_eq!(field(&out, "found"), "true");
+    assert_eq!(field(&out, "subsets_searched"), "true");
+    let reproduce = std::fs::read_to_string(out.join("reproduce.toml")).unwrap();
+    assert!(reproduce.contains("kind = \"file\""), "{reproduce}");
+    assert!(reproduce.contains("schedule.csv"), "{reproduce}");
+    let schedule = std::fs::read_to_string(out.join("schedule.csv")).unwrap();
+    assert!(schedule.starts_with("round,robot\n"));
+    let round: u64 = field(&out, "round").parse().unwrap();
+    let last: u64 = schedule
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .max()
+        .unwrap();
+    assert_eq!(last, round, "the schedule ends with the violation's round");
+    assert_eq!(run_row(&replayed)["hull_grew"], "true");
+}
+
+#[test]
+fn slow_reports_the_rounds_that_run_replays() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, replayed) = hunt_and_replay(
+        dir.path(),
+        &repo("configs/hunt/converge_quadrant_slow.toml"),
+        &[
+            "--set",
+            "hunt.evaluations=96",
+            "--set",
+            "swarm.n=6",
+            "--set",
+            "swarm.side=8",
+        ],
+    );
+    assert_eq!(field(&out, "found"), "true");
+    assert_eq!(field(&out, "converged"), "true");
+    let row = run_row(&replayed);
+    assert_eq!(row["rounds"], field(&out, "rounds"));
+    assert_eq!(row["converged"], "true");
+    let epochs: u64 = field(&out, "epochs").parse().unwrap();
+    let rounds: u64 = field(&out, "rounds").parse().unwrap();
+    assert!(
+        epochs >= 1 && epochs <= rounds,
+        "{epochs} epochs in {rounds} rounds"
+    );
+}
+
+#[test]
+fn bad_hunts_are_refused_with_the_key_and_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = |hunt: &str, extra: &str| {
+        format!(
+            "name = \"bad\"\n{extra}\n[algorithm]\nname = \"median\"\n[stop]\nmax_rounds = 5\n{hunt}\n"
+        )
+    };
+    let square = "[swarm]\nn = 4\ninit = \"square\"\nside = 3.0";
+    let cases: Vec<(String, &str)> = vec![
+        (base("", square), "no [hunt] section"),
+        (
+            base("[hunt]\nproperty = \"hull_grows\"", square),
+            "hunt: no budget",
+        ),
+        (
+            base("[hunt]\nproperty = \"hull_grows\"\nevaluations = 0", square),
+            "hunt.evaluations",
+        ),
+        (
+            base("[hunt]\nproperty = \"hull_grows\"\nseconds = -1.0", square),
+            "hunt.seconds",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_grows\"\nevaluations = 9\nn_min = 5\nn_max = 4",
+                square,
+            ),
+            "hunt.n_max",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_grows\"\nevaluations = 9\nn_min = 1\nn_max = 2",
+                square,
+            ),
+            "hunt.property",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"collision\"\nevaluations = 9\n[vision]\nrobot_radius = 0.1",
+                square,
+            ),
+            "hunt.property",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_shrinks\"\nevaluations = 9",
+                square,
+            ),
+            "hunt.property",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_grows\"\nevaluations = 9\nbudget = 3",
+                square,
+            ),
+            "budget",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_grows\"\nevaluations = 9",
+                "[swarm]\ninit = \"file\"\nfile = \"bad.csv\"",
+            ),
+            "bad.csv",
+        ),
+    ];
+    std::fs::write(dir.path().join("bad.csv"), "x,y\n0,0\n1,zz\n").unwrap();
+    for (text, needle) in cases {
+        let config = write_config(dir.path(), &text);
+        let e = fails(&[
+            "hunt",
+            s(&config),
+            "--out",
+            s(&dir.path().join("h")),
+            "--quiet",
+        ]);
+        assert!(e.contains(needle), "{needle}: {e}\n{text}");
+    }
+}
+
+#[test]
+fn an_interrupted_hunt_keeps_its_best_candidate_marked_not_shrunk() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("h");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_monoculus"))
+        .args([
+            "hunt",
+            s(&repo("configs/hunt/converge_quadrant_slow.toml")),
+            "--out",
+            s(&out),
+            "--quiet",
+            "--set",
+            "hunt.evaluations=100000000",
+            "--set",
+            "hunt.seconds=600",
+        ])
+        .spawn()
+        .unwrap();
+    let summary = out.join("summary.json");
+    let start = std::time::Instant::now();
+    while !summary.exists() && start.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert!(summary.exists(), "the first best is written at once");
+    std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    assert_eq!(field(&out, "shrunk"), "false");
+    assert_eq!(field(&out, "found"), "true");
+    assert!(out.join("positions.csv").exists());
+    assert!(out.join("reproduce.toml").exists());
+    // What it kept replays.
+    let replayed = dir.path().join("r");
+    let run = monoculus(&["run", s(&out.join("reproduce.toml")), "--out", s(&replayed)]);
+    assert!(run.status.success());
+}

@@ -1,0 +1,302 @@
+//! A hunt's folder: positions.csv, schedule.csv (when the schedule matters),
+//! reproduce.toml, replay.html and summary.json, each written whole or not at all.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::*;
+use crate::Registry;
+use crate::config::{RunSpec, Seeds};
+use crate::output::{OutputError, write_atomic};
+use crate::replay::{Limits, Replay, record};
+use crate::results::num;
+
+/// Writes a replay as an HTML page (the plot crate's writer, given by the caller).
+pub type HtmlWriter<'a> = dyn Fn(&Replay, &Path) -> Result<(), String> + Sync + 'a;
+
+/// The files of a hunt's folder.
+pub const FILES: [&str; 5] = [
+    "positions.csv",
+    "schedule.csv",
+    "reproduce.toml",
+    "replay.html",
+    "summary.json",
+];
+
+/// Writes `report` into `dir`: summary.json always; with a best candidate also its
+/// positions, schedule (when it matters), the config that replays it and (given `html`)
+/// its replay page. Files of an earlier best that this one has not (a schedule) are
+/// removed, so that the folder describes one candidate.
+pub fn write_found(
+    dir: &Path,
+    hunt: &Hunt,
+    report: &HuntReport,
+    registry: &Registry,
+    html: Option<&HtmlWriter<'_>>,
+) -> Result<(), String> {
+    let io = |e: OutputError| e.to_string();
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    if let Some(best) = &report.best {
+        let dim = hunt.cell.dim();
+        let c = &best.candidate;
+        let mut positions = String::from(["x,y", "x,y,z"][usize::from(dim == 3)]);
+        positions.push('\n');
+        for p in &c.points {
+            let row: Vec<String> = p[..dim].iter().map(|&x| num(x + 0.0)).collect();
+            positions.push_str(&row.join(","));
+            positions.push('\n');
+        }
+        write_atomic(&dir.join("positions.csv"), positions.as_bytes()).map_err(io)?;
+        let schedule_path = dir.join("schedule.csv");
+        match c.schedule.as_ref().filter(|_| hunt.schedule_matters()) {
+            Some(rounds) => {
+                let mut text = String::from("round,robot\n");
+                for (k, &m) in rounds.iter().enumerate() {
+                    for r in robots_of(m) {
+                        let _ = writeln!(text, "{},{r}", k + 1);
+                    }
+                }
+                write_atomic(&schedule_path, text.as_bytes()).map_err(io)?;
+            }
+            None => {
+                let _ = std::fs::remove_file(&schedule_path);
+            }
+        }
+        let reproduce = dir.join("reproduce.toml");
+        write_atomic(&reproduce, reproduce_toml(hunt, best).as_bytes()).map_err(io)?;
+        if let Some(html) = html {
+            let exp = Experiment::load(&reproduce, &[], registry)
+                .map_err(|e| format!("the written reproduce.toml does not load: {e}"))?;
+            let title = format!(
+                "{}: {} (n = {}, seed {})",
+                hunt.cell.spec.name,
+                hunt.property().name(),
+                c.len(),
+                c.seed
+            );
+            let replay = record(&exp.cells[0], c.seed, title, Limits::default())
+                .map_err(|e| format!("{}: {e}", reproduce.display()))?;
+            html(&replay, &dir.join("replay.html"))?;
+        }
+    }
+    write_atomic(
+        &dir.join("summary.json"),
+        summary_json(hunt, report).as_bytes(),
+    )
+    .map_err(io)
+}
+
+/// What the replay of a counterexample shows, in words (the first lines of
+/// reproduce.toml).
+fn shows(hunt: &Hunt, best: &Found) -> String {
+    let e = &best.evaluation;
+    let unit = if hunt.cell.spec.scheduler.kind == SchedulerKind::Async {
+        "epoch"
+    } else {
+        "round"
+    };
+    match (hunt.property(), e.violated) {
+        (Property::HullGrows, true) => format!(
+            "the hull grows in {unit} {}: runs.csv says hull_grew = true",
+            e.round
+        ),
+        (Property::DiameterGrows, true) => format!(
+            "the diameter grows in {unit} {} (see `monoculus trace`, column diameter)",
+            e.round
+        ),
+        (Property::BoxGrows, true) => format!(
+            "the bounding box grows in {unit} {} (see `monoculus trace`, columns extent_*)",
+            e.round
+        ),
+        (Property::Collision, true) => format!(
+            "two robots reach one point in {unit} {} (see `monoculus trace --positions`)",
+            e.round
+        ),
+        (Property::NoConvergence, true) => format!(
+            "no convergence within stop.max_rounds = {}: runs.csv says converged = false",
+            hunt.max_rounds
+        ),
+        (Property::Slow, _) => format!(
+            "{} {unit}s to {} ({} epochs): runs.csv column rounds",
+            e.rounds,
+            if e.converged {
+                "converge"
+            } else {
+                "the cap, not converged"
+            },
+            e.epochs
+        ),
+        (p, false) => format!(
+            "the candidate that came closest to {} (score {}); it does not break it",
+            p.name(),
+            num(e.score)
+        ),
+    }
+}
+
+/// The config that replays a candidate with `monoculus run`: its positions from
+/// positions.csv, its seed, its schedule from schedule.csv when it matters, and for a
+/// violation found in round k, k rounds.
+fn reproduce_toml(hunt: &Hunt, best: &Found) -> String {
+    let c = &best.candidate;
+    let mut spec: RunSpec = hunt.cell.spec.clone();
+    spec.hunt = None;
+    spec.seeds = Seeds::List(vec![c.seed]);
+    spec.swarm.init = InitKind::File;
+    spec.swarm.file = Some("positions.csv".into());
+    spec.swarm.n = None;
+    if hunt.schedule_matters() {
+        spec.scheduler.kind = SchedulerKind::File;
+        spec.scheduler.file = Some("schedule.csv".into());
+    }
+    let e = &best.evaluation;
+    if e.violated
+        && matches!(
+            hunt.property(),
+            Property::HullGrows
+                | Property::DiameterGrows
+                | Property::BoxGrows
+                | Property::Collision
+        )
+    {
+        spec.stop.max_rounds = e.round.max(1);
+    }
+    format!(
+        "# Written by `monoculus hunt`: {}.\n# Replay it with `monoculus run reproduce.toml --out DIR` (or `monoculus replay`).\n{}",
+        shows(hunt, best),
+        toml::to_string(&spec).expect("a RunSpec serialises")
+    )
+}
+
+fn json_str(s: &str) -> String {
+    let mut out = String::from("\"");
+    for ch in s.chars() {
+        match ch {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+fn json_num(x: f64) -> String {
+    if x.is_finite() { num(x) } else { "null".into() }
+}
+
+/// summary.json: the property, what was found, and how much was searched.
+pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
+    let best = report.best.as_ref();
+    let e = best.map(|b| &b.evaluation);
+    let fields: Vec<(&str, String)> = vec![
+        ("property", json_str(report.property.name())),
+        ("found", report.found.to_string()),
+        ("shrunk", report.shrunk.to_string()),
+        ("interrupted", report.interrupted.to_string()),
+        ("score", e.map_or("null".into(), |e| json_num(e.score))),
+        (
+            "n",
+            best.map_or("null".into(), |b| b.candidate.len().to_string()),
+        ),
+        ("round", e.map_or("null".into(), |e| e.round.to_string())),
+        ("rounds", e.map_or("null".into(), |e| e.rounds.to_string())),
+        ("epochs", e.map_or("null".into(), |e| e.epochs.to_string())),
+        (
+            "converged",
+            e.map_or("null".into(), |e| e.converged.to_string()),
+        ),
+        (
+            "run_seed",
+            best.map_or("null".into(), |b| b.candidate.seed.to_string()),
+        ),
+        ("evaluations", report.evaluations.to_string()),
+        ("shrink_evaluations", report.shrink_evaluations.to_string()),
+        ("generations", report.generations.to_string()),
+        ("seconds", format!("{:.3}", report.seconds)),
+        ("seed", hunt.spec.seed.to_string()),
+        ("algorithm", json_str(hunt.cell.algorithm().name())),
+        (
+            "scheduler",
+            json_str(hunt.cell.sim_config(0).scheduler.name()),
+        ),
+        ("subsets_searched", hunt.subsets.to_string()),
+        ("n_min", hunt.n_min.to_string()),
+        ("n_max", hunt.n_max.to_string()),
+        ("max_rounds", hunt.max_rounds.to_string()),
+        ("failures", report.failures.to_string()),
+        (
+            "first_failure",
+            report
+                .first_failure
+                .as_deref()
+                .map_or("null".into(), json_str),
+        ),
+    ];
+    let body: Vec<String> = fields
+        .iter()
+        .map(|(k, v)| format!("  {}: {v}", json_str(k)))
+        .collect();
+    format!("{{\n{}\n}}\n", body.join(",\n"))
+}
+
+/// Writes a hunt's folder as the hunt goes: at once for a counterexample, at most every
+/// [`FolderWriter::EVERY`] while a best that breaks nothing keeps changing, and at the end
+/// (a write that fails is kept and reported by [`FolderWriter::finish`]).
+pub struct FolderWriter<'a> {
+    dir: &'a Path,
+    hunt: &'a Hunt,
+    registry: &'a Registry,
+    html: Option<&'a HtmlWriter<'a>>,
+    last: std::sync::Mutex<Option<std::time::Instant>>,
+    failed: std::sync::Mutex<Option<String>>,
+}
+
+impl<'a> FolderWriter<'a> {
+    /// How often a changing best is written at most.
+    pub const EVERY: std::time::Duration = std::time::Duration::from_secs(2);
+
+    /// A writer of `dir`.
+    pub fn new(
+        dir: &'a Path,
+        hunt: &'a Hunt,
+        registry: &'a Registry,
+        html: Option<&'a HtmlWriter<'a>>,
+    ) -> Self {
+        FolderWriter {
+            dir,
+            hunt,
+            registry,
+            html,
+            last: std::sync::Mutex::new(None),
+            failed: std::sync::Mutex::new(None),
+        }
+    }
+
+    /// For [`HuntOptions::on_best`].
+    pub fn on_best(&self, report: &HuntReport) {
+        let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
+        let violated = report.best.as_ref().is_some_and(|b| b.evaluation.violated);
+        if !violated && last.is_some_and(|t| t.elapsed() < Self::EVERY) {
+            return;
+        }
+        *last = Some(std::time::Instant::now());
+        if let Err(e) = write_found(self.dir, self.hunt, report, self.registry, self.html) {
+            self.failed
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .get_or_insert(e);
+        }
+    }
+
+    /// Writes the final report; the first failed write, if any.
+    pub fn finish(self, report: &HuntReport) -> Result<(), String> {
+        if let Some(e) = self.failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
+            return Err(e);
+        }
+        write_found(self.dir, self.hunt, report, self.registry, self.html)
+    }
+}
