@@ -320,3 +320,19 @@ fn an_interrupted_hunt_keeps_its_best_candidate_marked_not_shrunk() {
     let run = monoculus(&["run", s(&out.join("reproduce.toml")), "--out", s(&replayed)]);
     assert!(run.status.success());
 }
+
+#[test]
+fn the_guide_s_config_hunts() {
+    let guide = std::fs::read_to_string(repo("docs/hunt.md")).unwrap();
+    let block = guide
+        .split("```toml\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("docs/hunt.md has a TOML example");
+    assert!(block.contains("name = \"my_rule\""));
+    let dir = tempfile::tempdir().unwrap();
+    let config = write_config(dir.path(), &block.replace("\"my_rule\"", "\"median\""));
+    let out = dir.path().join("h");
+    ok(&["hunt", s(&config), "--out", s(&out), "--quiet"]);
+    assert_eq!(field(&out, "found"), "true");
+}
