@@ -9,10 +9,10 @@
 //! (3D), `&play=1`. The page sets `data-status` on its body to `ready` (or `error`, with
 //! `data-error`, on a script error) and `data-time` to the round or tick shown.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use monoculus_experiments::output::AtomicFile;
+use monoculus_experiments::output::json::{number, string as text};
 
 use monoculus_experiments::replay::Replay;
 use plotters::prelude::*;
@@ -59,35 +59,6 @@ fn u32s(values: impl IntoIterator<Item = u32>) -> String {
             .flat_map(u32::to_le_bytes)
             .collect::<Vec<u8>>(),
     )
-}
-
-/// A JSON string literal, safe inside a `<script>` element.
-fn text(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '<' => out.push_str("\\u003c"),
-            '>' => out.push_str("\\u003e"),
-            '&' => out.push_str("\\u0026"),
-            c if (c as u32) < 0x20 => {
-                let _ = write!(out, "\\u{:04x}", c as u32);
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// A JSON number for `x` (non-finite values as null).
-fn number(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x}")
-    } else {
-        "null".to_string()
-    }
 }
 
 fn list<T>(items: &[T], f: impl Fn(&T) -> String) -> String {

@@ -53,21 +53,13 @@ fn the_hunt_catches_it_growing_the_hull() {
     let cfg = Path::new(env!("CARGO_MANIFEST_DIR")).join("hunt.toml");
     let out = tmp.path().join("hunt");
     let bin = env!("CARGO_BIN_EXE_toward-anyone");
-    let hunt = Command::new(bin)
-        .args([
-            "hunt",
-            cfg.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    assert!(
-        hunt.status.success(),
-        "{}",
-        String::from_utf8_lossy(&hunt.stderr)
-    );
+    // Runs the binary, which must succeed.
+    let succeed = |args: &[&str]| {
+        let o = Command::new(bin).args(args).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    succeed(&["hunt", &path(&cfg), "--out", &path(&out), "--quiet"]);
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(summary.contains("\"found\": true"), "{summary}");
     assert!(
@@ -75,16 +67,12 @@ fn the_hunt_catches_it_growing_the_hull() {
         "{summary}"
     );
     let replayed = tmp.path().join("replayed");
-    let run = Command::new(bin)
-        .args(["run", out.join("reproduce.toml").to_str().unwrap()])
-        .args(["--out", replayed.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    succeed(&[
+        "run",
+        &path(&out.join("reproduce.toml")),
+        "--out",
+        &path(&replayed),
+    ]);
     let runs = std::fs::read_to_string(replayed.join("runs.csv")).unwrap();
     let mut lines = runs.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();

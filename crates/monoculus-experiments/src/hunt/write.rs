@@ -7,7 +7,7 @@ use std::path::Path;
 use super::*;
 use crate::Registry;
 use crate::config::{RunSpec, Seeds};
-use crate::output::{OutputError, write_atomic};
+use crate::output::{OutputError, json, write_atomic};
 use crate::replay::{Limits, Replay, record};
 use crate::results::num;
 
@@ -168,36 +168,16 @@ fn reproduce_toml(hunt: &Hunt, best: &Found) -> String {
     )
 }
 
-fn json_str(s: &str) -> String {
-    let mut out = String::from("\"");
-    for ch in s.chars() {
-        match ch {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if (c as u32) < 0x20 => {
-                let _ = write!(out, "\\u{:04x}", c as u32);
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-fn json_num(x: f64) -> String {
-    if x.is_finite() { num(x) } else { "null".into() }
-}
-
 /// summary.json: the property, what was found, and how much was searched.
 pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
     let best = report.best.as_ref();
     let e = best.map(|b| &b.evaluation);
     let fields: Vec<(&str, String)> = vec![
-        ("property", json_str(report.property.name())),
+        ("property", json::string(report.property.name())),
         ("found", report.found.to_string()),
         ("shrunk", report.shrunk.to_string()),
         ("interrupted", report.interrupted.to_string()),
-        ("score", e.map_or("null".into(), |e| json_num(e.score))),
+        ("score", e.map_or("null".into(), |e| json::number(e.score))),
         (
             "n",
             best.map_or("null".into(), |b| b.candidate.len().to_string()),
@@ -218,10 +198,10 @@ pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
         ("generations", report.generations.to_string()),
         ("seconds", format!("{:.3}", report.seconds)),
         ("seed", hunt.spec.seed.to_string()),
-        ("algorithm", json_str(hunt.cell.algorithm().name())),
+        ("algorithm", json::string(hunt.cell.algorithm().name())),
         (
             "scheduler",
-            json_str(hunt.cell.sim_config(0).scheduler.name()),
+            json::string(hunt.cell.sim_config(0).scheduler.name()),
         ),
         ("subsets_searched", hunt.subsets.to_string()),
         ("n_min", hunt.n_min.to_string()),
@@ -233,12 +213,12 @@ pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
             report
                 .first_failure
                 .as_deref()
-                .map_or("null".into(), json_str),
+                .map_or("null".into(), json::string),
         ),
     ];
     let body: Vec<String> = fields
         .iter()
-        .map(|(k, v)| format!("  {}: {v}", json_str(k)))
+        .map(|(k, v)| format!("  {}: {v}", json::string(k)))
         .collect();
     format!("{{\n{}\n}}\n", body.join(",\n"))
 }

@@ -7,8 +7,10 @@
 //!   previous file as it was ([`remove_temporaries_on_signal`]).
 //! - [`Paths`]: a command's inputs and outputs, checked to be distinct files.
 //! - [`unique_stems`]: file names for a list of outputs, distinct whatever their labels.
+//! - [`json`]: JSON strings and numbers for the files written by hand.
 
 mod atomic;
+pub mod json;
 mod names;
 mod paths;
 
