@@ -173,7 +173,7 @@ pub struct HuntSpec {
     /// Most robots searched. Default: `swarm.n` (the file's robots).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub n_max: Option<usize>,
-    /// Budget: candidates evaluated (search and shrinking).
+    /// Budget: runs of the search (shrinking a counterexample takes more).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub evaluations: Option<u64>,
     /// Budget: seconds of search (shrinking then runs to its end).
