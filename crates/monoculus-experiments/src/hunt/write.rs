@@ -26,7 +26,8 @@ pub const FILES: [&str; 5] = [
 /// Writes `report` into `dir`: summary.json always; with a best candidate also its
 /// positions, schedule (when it matters), the config that replays it and (given `html`)
 /// its replay page. Files of an earlier best that this one has not (a schedule) are
-/// removed, so that the folder describes one candidate.
+/// removed, so that the folder describes one candidate; a signal (with
+/// [`crate::output::remove_temporaries_on_signal`]) waits until the folder is whole.
 pub fn write_found(
     dir: &Path,
     hunt: &Hunt,
@@ -36,6 +37,9 @@ pub fn write_found(
 ) -> Result<(), String> {
     let io = |e: OutputError| e.to_string();
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    // A signal waits for the whole folder: never the start of one candidate beside the
+    // summary of another.
+    let _together = crate::output::Together::enter();
     if let Some(best) = &report.best {
         let dim = hunt.cell.dim();
         let c = &best.candidate;

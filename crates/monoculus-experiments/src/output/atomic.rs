@@ -6,7 +6,7 @@ use std::fs::{self, File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 use super::OutputError;
 
@@ -36,11 +36,65 @@ pub fn remove_temporaries_on_signal() {
     // A second installation (a test harness, an embedding program) is refused by ctrlc:
     // the first handler stays, which is what we want.
     let _ = ctrlc::set_handler(|| {
-        for tmp in live().drain(..) {
-            let _ = fs::remove_file(tmp);
+        PENDING_EXIT.store(true, Ordering::SeqCst);
+        // Inside a [`Together`] section the last one to leave exits instead.
+        if TOGETHER.load(Ordering::SeqCst) == 0 {
+            exit_interrupted();
         }
-        std::process::exit(INTERRUPTED);
     });
+}
+
+/// [`Together`] sections open now.
+static TOGETHER: AtomicUsize = AtomicUsize::new(0);
+/// A signal arrived (the process exits when no [`Together`] section is open).
+static PENDING_EXIT: AtomicBool = AtomicBool::new(false);
+/// Someone is exiting: nobody else calls `exit`.
+static EXITING: AtomicBool = AtomicBool::new(false);
+
+fn exit_interrupted() {
+    if EXITING.swap(true, Ordering::SeqCst) {
+        // Another thread exits; wait for it.
+        loop {
+            std::thread::park();
+        }
+    }
+    for tmp in live().drain(..) {
+        let _ = fs::remove_file(tmp);
+    }
+    std::process::exit(INTERRUPTED);
+}
+
+/// Files that belong together (a hunt's folder: a start and the config that replays
+/// it): while one of these guards lives, a signal waits, and the process exits once the
+/// last guard is dropped, so that the files are all of the old set or all of the new.
+///
+/// ```
+/// use monoculus_experiments::output::{Together, write_atomic};
+/// let dir = tempfile::tempdir()?;
+/// {
+///     let _together = Together::enter();
+///     write_atomic(&dir.path().join("a.csv"), b"x,y\n0,0\n")?;
+///     write_atomic(&dir.path().join("a.toml"), b"name = \"a\"\n")?;
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[must_use = "the section ends when the guard is dropped"]
+pub struct Together(());
+
+impl Together {
+    /// Opens a section.
+    pub fn enter() -> Together {
+        TOGETHER.fetch_add(1, Ordering::SeqCst);
+        Together(())
+    }
+}
+
+impl Drop for Together {
+    fn drop(&mut self) {
+        if TOGETHER.fetch_sub(1, Ordering::SeqCst) == 1 && PENDING_EXIT.load(Ordering::SeqCst) {
+            exit_interrupted();
+        }
+    }
 }
 
 /// A temporary name beside `path`, unique across processes (pid) and threads (counter):

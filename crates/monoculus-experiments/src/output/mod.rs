@@ -15,7 +15,7 @@ mod names;
 mod paths;
 
 pub use atomic::{
-    AtomicFile, INTERRUPTED, create_if_absent, remove_temporaries_on_signal, write_atomic,
+    AtomicFile, INTERRUPTED, Together, create_if_absent, remove_temporaries_on_signal, write_atomic,
 };
 pub use names::unique_stems;
 pub use paths::Paths;
