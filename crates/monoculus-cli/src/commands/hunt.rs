@@ -3,6 +3,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use monoculus_experiments::Registry;
+use monoculus_experiments::config::SchedulerKind;
 use monoculus_experiments::hunt::{FILES, FolderWriter, Hunt, HuntOptions, HuntReport, Progress};
 use monoculus_experiments::results::num;
 
@@ -82,7 +83,12 @@ pub fn hunt(args: HuntArgs, registry: &Registry) -> Result<(), Failure> {
             report.failures
         );
     }
-    outln!("{}", describe(&exp.name, &report));
+    let unit = if cell.spec.scheduler.kind == SchedulerKind::Async {
+        "epoch"
+    } else {
+        "round"
+    };
+    outln!("{}", describe(&exp.name, &report, unit));
     outln!(
         "wrote {}; replay: monoculus run {} --out RESULTS",
         args.out.display(),
@@ -92,7 +98,8 @@ pub fn hunt(args: HuntArgs, registry: &Registry) -> Result<(), Failure> {
 }
 
 /// One line: what was found, after how much search.
-pub fn describe(name: &str, report: &HuntReport) -> String {
+/// `unit`: what the run counts (round, or epoch under ASYNC).
+pub fn describe(name: &str, report: &HuntReport, unit: &str) -> String {
     let searched = format!(
         "{} evaluations ({} shrinking, {} generations) in {:.1}s",
         report.evaluations, report.shrink_evaluations, report.generations, report.seconds
@@ -100,7 +107,7 @@ pub fn describe(name: &str, report: &HuntReport) -> String {
     let property = report.property.name();
     match &report.best {
         Some(b) if report.property == monoculus_experiments::config::Property::Slow => format!(
-            "{name}: slow: worst found: {} rounds, {} epochs{} (n = {}); {searched}",
+            "{name}: slow: worst found: {} {unit}s, {} epochs{} (n = {}); {searched}",
             b.evaluation.rounds,
             b.evaluation.epochs,
             if b.evaluation.converged {
@@ -111,7 +118,7 @@ pub fn describe(name: &str, report: &HuntReport) -> String {
             b.candidate.len()
         ),
         Some(b) if b.evaluation.violated => format!(
-            "{name}: {property}: broken in round {} by n = {}{}; {searched}",
+            "{name}: {property}: broken in {unit} {} by n = {}{}; {searched}",
             b.evaluation.round,
             b.candidate.len(),
             if report.shrunk {
