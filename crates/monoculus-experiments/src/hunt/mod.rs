@@ -46,11 +46,9 @@ mod write;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-use monoculus_engine::SchedulerSpec;
-
 pub use write::{FILES, FolderWriter, HtmlWriter, summary_json, write_found};
 
-use crate::config::{HuntSpec, InitKind, Property, SchedulerKind};
+use crate::config::{HuntSpec, Property, SchedulerKind};
 use crate::{Cell, ConfigError, Experiment};
 
 /// The largest swarm whose SSYNC activation subsets are searched (one bit per robot).
@@ -371,9 +369,6 @@ impl Hunt {
                 ),
             ));
         }
-        if swarm.init == InitKind::File && cell.file_positions.is_none() {
-            return Err(err("swarm.file", "no positions were read".into()));
-        }
         Ok(Hunt {
             cell: cell.clone(),
             spec,
@@ -413,19 +408,10 @@ impl Hunt {
         }
         state.report()
     }
-
-    /// The scheduler a candidate runs under.
-    fn scheduler(&self, c: &Candidate) -> SchedulerSpec {
-        let spec = self.cell.sim_config(c.seed).scheduler;
-        match &c.schedule {
-            Some(rounds) => SchedulerSpec::File(Arc::new(activation_list(rounds))),
-            None => spec,
-        }
-    }
 }
 
 /// The schedule of a candidate as the engine's list (rounds with nobody are left out).
-pub fn activation_list(rounds: &[u64]) -> monoculus_engine::ActivationList {
+fn activation_list(rounds: &[u64]) -> monoculus_engine::ActivationList {
     let rows = rounds
         .iter()
         .enumerate()
@@ -436,12 +422,12 @@ pub fn activation_list(rounds: &[u64]) -> monoculus_engine::ActivationList {
 }
 
 /// The robots of a bit set, ascending.
-pub fn robots_of(mask: u64) -> Vec<u32> {
+fn robots_of(mask: u64) -> Vec<u32> {
     (0..64).filter(|i| mask >> i & 1 == 1).collect()
 }
 
 /// A schedule as bit sets per round, from the engine's list (rounds 1..=`len`).
-pub fn masks_of(list: &monoculus_engine::ActivationList, len: u64) -> Vec<u64> {
+fn masks_of(list: &monoculus_engine::ActivationList, len: u64) -> Vec<u64> {
     (1..=len)
         .map(|k| list.round(k).iter().fold(0u64, |m, &r| m | 1 << r))
         .collect()

@@ -8,7 +8,7 @@ use glam::{DVec2, DVec3};
 use monoculus_core::geometry::Point;
 use monoculus_core::rng::Stream;
 use monoculus_engine::systems::hull_grew;
-use monoculus_engine::{IndexPoint, Simulation};
+use monoculus_engine::{IndexPoint, SchedulerSpec, Simulation};
 use rayon::prelude::*;
 
 use super::*;
@@ -167,7 +167,9 @@ impl Hunt {
 
     fn evaluate_in<P: IndexPoint>(&self, c: &Candidate) -> Evaluation {
         let mut config = self.cell.sim_config(c.seed);
-        config.scheduler = self.scheduler(c);
+        if let Some(rounds) = &c.schedule {
+            config.scheduler = SchedulerSpec::File(Arc::new(activation_list(rounds)));
+        }
         let eps_pos = config.vision.eps_pos;
         let points: Vec<P> = c.points.iter().map(|r| P::from_slice(r)).collect();
         let invalid = Evaluation {
@@ -509,27 +511,11 @@ impl<'a> State<'a> {
         }
     }
 
+    /// The finished hunt.
     pub(super) fn report(self) -> HuntReport {
-        let found = match self.hunt.property() {
-            Property::Slow => self.best.is_some(),
-            _ => self.best.as_ref().is_some_and(|b| b.evaluation.violated),
-        };
         HuntReport {
-            property: self.hunt.property(),
-            found,
             shrunk: self.shrunk,
-            best: self.best,
-            evaluations: self.evaluations,
-            shrink_evaluations: self.shrink_evaluations,
-            generations: self.generations,
-            failures: self.failures,
-            first_failure: self.first_failure,
-            seconds: self.start.elapsed().as_secs_f64(),
-            interrupted: self
-                .options
-                .interrupt
-                .as_ref()
-                .is_some_and(|f| f.load(Ordering::Relaxed)),
+            ..self.snapshot()
         }
     }
 }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::*;
 use crate::Registry;
-use crate::config::{RunSpec, Seeds};
+use crate::config::{InitKind, RunSpec, Seeds};
 use crate::output::{OutputError, json, write_atomic};
 use crate::replay::{Limits, Replay, record};
 use crate::results::num;
@@ -230,6 +230,28 @@ pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
 /// Writes a hunt's folder as the hunt goes: at once for a counterexample, at most every
 /// [`FolderWriter::EVERY`] while a best that breaks nothing keeps changing, and at the end
 /// (a write that fails is kept and reported by [`FolderWriter::finish`]).
+///
+/// ```
+/// use monoculus_experiments::hunt::{FolderWriter, Hunt, HuntOptions};
+/// use monoculus_experiments::{Experiment, Registry};
+///
+/// let config = "name = \"h\"\n[swarm]\nn = 4\ninit = \"square\"\nside = 3.0\n\
+///               [algorithm]\nname = \"angle_bisector\"\n[stop]\nmax_rounds = 5\n\
+///               [hunt]\nproperty = \"hull_grows\"\nn_min = 3\nevaluations = 2000\n";
+/// let registry = Registry::builtin();
+/// let exp = Experiment::parse(config, "h.toml", ".".as_ref(), &[], &registry)?;
+/// let hunt = Hunt::new(&exp, &exp.cells[0], "h.toml")?;
+/// let dir = tempfile::tempdir()?;
+/// let writer = FolderWriter::new(dir.path(), &hunt, &registry, None); // no replay page
+/// let report = hunt.run(&HuntOptions {
+///     on_best: Some(&|r| writer.on_best(r)),
+///     ..HuntOptions::default()
+/// });
+/// writer.finish(&report)?;
+/// assert!(dir.path().join("reproduce.toml").exists());
+/// assert!(std::fs::read_to_string(dir.path().join("summary.json"))?.contains("\"found\": true"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub struct FolderWriter<'a> {
     dir: &'a Path,
     hunt: &'a Hunt,
