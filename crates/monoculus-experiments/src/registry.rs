@@ -160,8 +160,18 @@ impl Registry {
         self
     }
 
-    /// Adds `A`, or says why not (its name is taken, or not a plain snake-case name).
+    /// Adds `A`, or says why not (its name is taken, or not a plain snake-case name, or
+    /// it declares more than [`MAX_LIGHTS`](monoculus_core::algorithms::MAX_LIGHTS)
+    /// lights).
     pub fn try_register<A: Algorithm>(&mut self) -> Result<&mut Self, String> {
+        let max = monoculus_core::algorithms::MAX_LIGHTS;
+        if A::LIGHTS.len() > max {
+            return Err(format!(
+                "algorithm {:?} declares {} lights: at most {max}",
+                A::NAME,
+                A::LIGHTS.len()
+            ));
+        }
         self.try_register_with(
             A::NAME,
             <A::Sensing as Sensing>::MODEL,

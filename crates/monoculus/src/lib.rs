@@ -91,7 +91,7 @@ pub fn activate_once<A: Algorithm, V: monoculus_core::geometry::Point>(
 pub mod prelude {
     pub use crate::App;
     pub use monoculus_core::algorithms::{
-        Algorithm, Decision, Directions, Ld, Model, NoParams, Observation, Ola, Positions,
+        Algorithm, Decision, Directions, Ld, Lit, Model, NoParams, Observation, Ola, Positions,
         StopCriterion, along, empty_sides,
     };
     pub use monoculus_core::geometry::Point;

@@ -2,7 +2,7 @@
 //! (and [`activate_together`] for algorithms that decide a round's activations in one
 //! call); and what the engine may skip ([`certainly_stays`]).
 
-use super::observation::Looker;
+use super::observation::Scene;
 use super::{Algorithm, Decision, Kept, LocalFrame, Model, ModelParams, Observation, Sensing};
 use crate::errors::Perception;
 use crate::geometry::Point;
@@ -91,7 +91,8 @@ pub const UNIT_TOLERANCE: f64 = 1e-6;
 /// `kept` is the robot's frame and state when `A` keeps a state ([`Algorithm::keeps_state`]);
 /// otherwise `None`, and the frame is drawn from `stream` first (a rotation and
 /// chirality, or the agreed axes' order and orientation for OLA), then the perception's
-/// errors, then whatever the algorithm draws.
+/// errors, then whatever the algorithm draws. Every robot shows colour 0 (see
+/// [`activate_lit`] for algorithms with lights).
 pub fn activate<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     algorithm: &A,
     params: &ModelParams,
@@ -100,19 +101,55 @@ pub fn activate<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     kept: Option<&mut Kept<P, A::State>>,
     stream: &mut Stream,
 ) -> Result<Option<P>, BadDecision> {
+    activate_lit(algorithm, params, (sight, &[]), robot, kept, stream)
+}
+
+/// [`activate`] with the colour each robot shows (`lights[j]` for robot `j`, an index
+/// into [`Algorithm::LIGHTS`]; robots beyond the slice show 0). The robot's light after
+/// the activation ([`Algorithm::light`] of its state) must be in the palette.
+///
+/// ```
+/// use glam::DVec2;
+/// use monoculus_core::algorithms::{ModelParams, Median, activate_lit};
+/// use monoculus_core::rng::Stream;
+/// use monoculus_core::vision::{ExactSight, VisionParams};
+///
+/// let pts = vec![DVec2::ZERO, DVec2::X, DVec2::new(0.0, 1.0)];
+/// let sight = ExactSight::new(pts, VisionParams::default());
+/// let mut stream = Stream::new(7, 0, 0, 0);
+/// // Median has no lights: the colours are there, and nothing asks for them.
+/// let step = activate_lit(&Median, &ModelParams::new(1.0, 2.0), (&sight, &[0, 0, 0]), 0, None, &mut stream);
+/// assert!(step.unwrap().is_some());
+/// ```
+pub fn activate_lit<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
+    algorithm: &A,
+    params: &ModelParams,
+    (sight, lights): (&S, &[u8]),
+    robot: usize,
+    kept: Option<&mut Kept<P, A::State>>,
+    stream: &mut Stream,
+) -> Result<Option<P>, BadDecision> {
     let mut fresh = A::State::default();
     let (frame, state) = frame_and_state::<A, P>(kept, &mut fresh, stream);
     let perception = Perception::new(params.errors, stream);
-    let looker = Looker::new(model_of::<A>(), sight, robot, frame, params, perception);
+    let scene = Scene::new(
+        model_of::<A>(),
+        (sight, lights),
+        robot,
+        frame,
+        params,
+        perception,
+    );
     let decision = {
         let _deciding = Deciding::start();
-        let obs = Observation::new(&looker);
+        let obs = Observation::new(&scene);
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             algorithm.decide(&obs, state, stream)
         }))
         .map_err(|payload| panicked(algorithm, &*payload))?
     };
-    to_global(algorithm, params, &looker, &frame, decision)
+    check_light(algorithm, state)?;
+    to_global(algorithm, params, &scene, &frame, decision)
 }
 
 /// An activation to decide: the robot, what it keeps (if its algorithm keeps a state),
@@ -123,11 +160,12 @@ pub type Pending<'a, P, T> = (usize, Option<&'a mut Kept<P, T>>, Stream);
 /// together ([`Algorithm::decides_together`]): each is (robot, its kept frame and state if `A`
 /// keeps one, its stream), in the order given; each gets its frame and perception drawn
 /// as in [`activate`], then [`Algorithm::decide_together`] decides them in one call. The
-/// global displacements, in the same order (a panic fails every one).
+/// global displacements, in the same order (a panic fails every one). Robot `j` shows
+/// colour `lights[j]` (see [`activate_lit`]).
 pub fn activate_together<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     algorithm: &A,
     params: &ModelParams,
-    sight: &S,
+    (sight, lights): (&S, &[u8]),
     activations: &mut [Pending<'_, P, A::State>],
 ) -> Vec<Result<Option<P>, BadDecision>> {
     let mut fresh: Vec<A::State> = (0..activations.len())
@@ -135,14 +173,14 @@ pub fn activate_together<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
         .collect();
     let mut frames = Vec::with_capacity(activations.len());
     let mut states: Vec<&mut A::State> = Vec::with_capacity(activations.len());
-    let mut lookers = Vec::with_capacity(activations.len());
+    let mut scenes = Vec::with_capacity(activations.len());
     let mut streams: Vec<&mut Stream> = Vec::with_capacity(activations.len());
     for ((robot, kept, stream), spare) in activations.iter_mut().zip(fresh.iter_mut()) {
         let (frame, state) = frame_and_state::<A, P>(kept.as_deref_mut(), spare, stream);
         let perception = Perception::new(params.errors, stream);
-        lookers.push(Looker::new(
+        scenes.push(Scene::new(
             model_of::<A>(),
-            sight,
+            (sight, lights),
             *robot,
             frame,
             params,
@@ -155,7 +193,7 @@ pub fn activate_together<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     let decided = {
         let _deciding = Deciding::start();
         let obs: Vec<Observation<'_, A::Sensing, P>> =
-            lookers.iter().map(|l| Observation::new(l)).collect();
+            scenes.iter().map(|l| Observation::new(l)).collect();
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             algorithm.decide_together(&obs, &mut states, &mut streams)
         }))
@@ -163,23 +201,26 @@ pub fn activate_together<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     match decided {
         Err(payload) => {
             let bad = panicked(algorithm, &*payload);
-            (0..lookers.len()).map(|_| Err(bad.clone())).collect()
+            (0..scenes.len()).map(|_| Err(bad.clone())).collect()
         }
-        Ok(decisions) if decisions.len() != lookers.len() => {
+        Ok(decisions) if decisions.len() != scenes.len() => {
             let bad = BadDecision {
                 algorithm: algorithm.name().to_string(),
                 problem: format!(
                     "decided {} activations together, but there were {}",
                     decisions.len(),
-                    lookers.len()
+                    scenes.len()
                 ),
             };
-            (0..lookers.len()).map(|_| Err(bad.clone())).collect()
+            (0..scenes.len()).map(|_| Err(bad.clone())).collect()
         }
         Ok(decisions) => decisions
             .into_iter()
-            .zip(lookers.iter().zip(&frames))
-            .map(|(d, (looker, frame))| to_global(algorithm, params, looker, frame, d))
+            .zip(scenes.iter().zip(&frames).zip(&states))
+            .map(|(d, ((scene, frame), state))| {
+                check_light(algorithm, state)?;
+                to_global(algorithm, params, scene, frame, d)
+            })
             .collect(),
     }
 }
@@ -200,6 +241,26 @@ fn frame_and_state<'a, A: Algorithm, P: Point>(
     }
 }
 
+/// The light a robot shows after its activation must be one of its algorithm's.
+fn check_light<A: Algorithm>(algorithm: &A, state: &A::State) -> Result<(), BadDecision> {
+    let light = A::light(state);
+    let colours = A::LIGHTS.len().max(1);
+    if light < colours {
+        return Ok(());
+    }
+    Err(BadDecision {
+        algorithm: algorithm.name().to_string(),
+        problem: format!(
+            "shows light {light}, but declares {} (Algorithm::LIGHTS): a light is an index into them",
+            match A::LIGHTS.len() {
+                0 => "no lights".to_string(),
+                1 => "1 light".to_string(),
+                k => format!("{k} lights"),
+            }
+        ),
+    })
+}
+
 fn panicked<A: Algorithm>(algorithm: &A, payload: &(dyn std::any::Any + Send)) -> BadDecision {
     BadDecision {
         algorithm: algorithm.name().to_string(),
@@ -212,7 +273,7 @@ fn panicked<A: Algorithm>(algorithm: &A, payload: &(dyn std::any::Any + Send)) -
 fn to_global<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     algorithm: &A,
     params: &ModelParams,
-    looker: &Looker<'_, P, S>,
+    scene: &Scene<'_, P, S>,
     frame: &LocalFrame<P>,
     decision: Decision<P>,
 ) -> Result<Option<P>, BadDecision> {
@@ -224,7 +285,7 @@ fn to_global<A: Algorithm, P: Point, S: Sight<P> + ?Sized>(
     let unit = |dir: P| {
         let length = dir.length();
         if (length - 1.0).abs() <= UNIT_TOLERANCE {
-            Ok(looker.to_global(frame, dir))
+            Ok(scene.looker.to_global(frame, dir))
         } else {
             Err(bad(format!(
                 "decided a step along {dir:?}, of length {length}: a direction must be a unit vector"

@@ -44,6 +44,14 @@ impl StopCriterion {
     }
 }
 
+/// The most colours an algorithm's robots may show ([`Algorithm::LIGHTS`]): a robot's
+/// light is kept in a byte.
+///
+/// ```
+/// assert_eq!(monoculus_core::algorithms::MAX_LIGHTS, 256);
+/// ```
+pub const MAX_LIGHTS: usize = 256;
+
 /// The parameters of an algorithm that has none: `[algorithm.params]` must be empty.
 ///
 /// ```
@@ -156,6 +164,62 @@ pub trait Algorithm: Sized + Send + Sync + 'static {
     /// where the box tells nothing), as it does for ConvergeQuadrant's inner robots.
     /// Ignored for the other models.
     const STAYS_WHEN_SURROUNDED: bool = false;
+
+    /// Its robots' lights (the luminous-robot model, SPEC section 10): the names of the
+    /// colours a robot may show, at most [`MAX_LIGHTS`](super::MAX_LIGHTS); empty (the
+    /// default) for robots without lights. A robot shows colour [`Algorithm::light`] of
+    /// its state (from the start: that of the `Default` state); the others see it with
+    /// its direction ([`Observation::lit`](super::Observation::lit),
+    /// [`Observation::random_lit`](super::Observation::random_lit)). Robots with lights
+    /// keep a state, so they keep their local frame too.
+    ///
+    /// ```
+    /// use monoculus_core::algorithms::{Algorithm, Decision, Directions, NoParams, Observation};
+    /// use monoculus_core::geometry::Point;
+    /// use monoculus_core::rng::Stream;
+    ///
+    /// /// Steps toward a robot showing `on` if it sees one, and shows `on` once it has moved.
+    /// struct Relay;
+    ///
+    /// #[derive(Clone, Debug, Default, PartialEq)]
+    /// struct Lamp(bool);
+    ///
+    /// impl Algorithm for Relay {
+    ///     const NAME: &'static str = "relay";
+    ///     type Sensing = Directions;
+    ///     type Params = NoParams;
+    ///     type State = Lamp;
+    ///     const LIGHTS: &'static [&'static str] = &["off", "on"];
+    ///
+    ///     fn new(_: NoParams) -> Result<Self, String> {
+    ///         Ok(Relay)
+    ///     }
+    ///
+    ///     fn light(lamp: &Lamp) -> usize {
+    ///         lamp.0 as usize
+    ///     }
+    ///
+    ///     fn decide<V: Point>(&self, obs: &Observation<'_, Directions, V>, lamp: &mut Lamp, rng: &mut Stream) -> Decision<V> {
+    ///         match obs.random_lit(1, rng) {
+    ///             Some(toward) => {
+    ///                 lamp.0 = true;
+    ///                 Decision::Step(toward)
+    ///             }
+    ///             None => Decision::Stay,
+    ///         }
+    ///     }
+    /// }
+    /// assert_eq!(Relay::light(&Lamp::default()), 0);
+    /// ```
+    const LIGHTS: &'static [&'static str] = &[];
+
+    /// The colour a robot with this state shows: an index into [`Algorithm::LIGHTS`]
+    /// (`0` by default). `decide` sets the light by changing the state; under ASYNC
+    /// the others see the new colour once the robot's Compute has ended. An index out of
+    /// the palette fails the run, naming the algorithm, the robot and the round.
+    fn light(_state: &Self::State) -> usize {
+        0
+    }
 
     /// The algorithm with these parameters, or why they are not valid (one line; the
     /// config error names `algorithm.params`).

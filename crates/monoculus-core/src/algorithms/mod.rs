@@ -16,17 +16,17 @@ mod termination;
 mod termination_bits;
 
 pub use activation::{
-    BadDecision, Pending, UNIT_TOLERANCE, activate, activate_together, certainly_stays,
-    in_algorithm,
+    BadDecision, Pending, UNIT_TOLERANCE, activate, activate_lit, activate_together,
+    certainly_stays, in_algorithm,
 };
-pub use algorithm::{Algorithm, NoParams, StopCriterion};
+pub use algorithm::{Algorithm, MAX_LIGHTS, NoParams, StopCriterion};
 pub use angle_bisector::AngleBisector;
 pub use center_of_gravity::CenterOfGravity;
 pub use converge_locality::ConvergeLocality;
 pub use converge_quadrant::{ConvergeQuadrant, along, empty_sides};
 pub use median::Median;
 pub use observation::{
-    Directions, Kept, Ld, LocalFrame, Model, Observation, Ola, Positions, Sensing,
+    Directions, Kept, Ld, Lit, LocalFrame, Model, Observation, Ola, Positions, Sensing,
 };
 pub use termination::ConvergeQuadrantTermination;
 pub use termination_bits::TerminationBits;

@@ -6,7 +6,9 @@ use std::marker::PhantomData;
 use super::ModelParams;
 use crate::errors::Perception;
 use crate::geometry::{AxisFrame, Point};
-use crate::observe::{LdObservation, OlaObservation, PositionObservation, Seen, Side};
+use crate::observe::{
+    LdObservation, OlaObservation, PositionObservation, Seen, Side, sample_visible_point,
+};
 use crate::rng::Stream;
 use crate::vision::Sight;
 
@@ -126,6 +128,29 @@ pub(crate) trait Probe<V> {
     fn random_in_orthant(&self, constraints: &[(usize, Side)], stream: &mut Stream) -> Option<V>;
     fn seen(&self) -> Vec<Seen<V>>;
     fn relative_positions(&self) -> Vec<V>;
+    fn lit(&self) -> Vec<Lit<V>>;
+    fn random_lit(&self, light: usize, stream: &mut Stream) -> Option<V>;
+    fn sees_light(&self, light: usize) -> bool;
+}
+
+/// A visible point and the colour its robot shows (the luminous-robot model).
+///
+/// ```
+/// use monoculus_core::algorithms::Lit;
+/// use glam::DVec2;
+///
+/// let seen = Lit { direction: DVec2::X, light: 1 };
+/// assert_eq!(seen.light, 1);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lit<V> {
+    /// Unit direction in the robot's local frame.
+    pub direction: V,
+    /// The colour its robot shows: an index into the algorithm's
+    /// [`Algorithm::LIGHTS`](super::Algorithm::LIGHTS) (0 for robots without lights).
+    /// Robots sharing a point are one visible point, showing the colour of the one with
+    /// the lowest index.
+    pub light: usize,
 }
 
 /// The observation of one model over a concrete sight.
@@ -173,6 +198,14 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> Looker<'a, P, S> {
         }
     }
 
+    /// Robot `j`'s direction in the robot's local frame, as perceived.
+    fn direction_of(&self, j: usize) -> P {
+        match self {
+            Looker::Ola(o) => o.local(j),
+            _ => self.ld().local(j),
+        }
+    }
+
     fn ld(&self) -> &LdObservation<'a, P, S> {
         match self {
             Looker::Ld(o) | Looker::Positions(o, _) => o,
@@ -188,7 +221,103 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> Looker<'a, P, S> {
     }
 }
 
-impl<P: Point, S: Sight<P> + ?Sized> Probe<P> for Looker<'_, P, S> {
+/// One robot's observation with the colours the robots show: what an [`Observation`]
+/// asks.
+pub(crate) struct Scene<'a, P: Point, S: Sight<P> + ?Sized> {
+    /// The observation of the robot's model.
+    pub(crate) looker: Looker<'a, P, S>,
+    sight: &'a S,
+    me: usize,
+    /// Each robot's colour (empty: every robot shows colour 0).
+    lights: &'a [u8],
+}
+
+impl<'a, P: Point, S: Sight<P> + ?Sized> Scene<'a, P, S> {
+    /// Robot `me`'s observation in `model` through `frame`, with the robots showing
+    /// `lights`.
+    pub(crate) fn new(
+        model: Model,
+        (sight, lights): (&'a S, &'a [u8]),
+        me: usize,
+        frame: LocalFrame<P>,
+        params: &ModelParams,
+        perception: Perception,
+    ) -> Self {
+        Scene {
+            looker: Looker::new(model, sight, me, frame, params, perception),
+            sight,
+            me,
+            lights,
+        }
+    }
+
+    fn light(&self, j: usize) -> usize {
+        self.lights.get(j).map_or(0, |&l| l as usize)
+    }
+}
+
+impl<P: Point, S: Sight<P> + ?Sized> Probe<P> for Scene<'_, P, S> {
+    fn sole_visible(&self) -> Option<P> {
+        self.looker.sole_visible()
+    }
+
+    fn count_visible_up_to(&self, limit: usize) -> usize {
+        self.looker.count_visible_up_to(limit)
+    }
+
+    fn random_visible(&self, stream: &mut Stream) -> Option<P> {
+        self.looker.random_visible(stream)
+    }
+
+    fn random_far(&self, stream: &mut Stream) -> Option<P> {
+        self.looker.random_far(stream)
+    }
+
+    fn side_occupied(&self, axis: usize, side: Side) -> bool {
+        self.looker.side_occupied(axis, side)
+    }
+
+    fn random_in_orthant(&self, constraints: &[(usize, Side)], stream: &mut Stream) -> Option<P> {
+        self.looker.random_in_orthant(constraints, stream)
+    }
+
+    fn seen(&self) -> Vec<Seen<P>> {
+        self.looker.seen()
+    }
+
+    fn relative_positions(&self) -> Vec<P> {
+        self.looker.relative_positions()
+    }
+
+    fn lit(&self) -> Vec<Lit<P>> {
+        self.sight
+            .visible_points(self.me)
+            .into_iter()
+            .map(|j| Lit {
+                direction: self.looker.direction_of(j),
+                light: self.light(j),
+            })
+            .collect()
+    }
+
+    fn random_lit(&self, light: usize, stream: &mut Stream) -> Option<P> {
+        let shows = |j: usize| self.light(j) == light;
+        let nobody = || !(0..self.sight.len()).any(|j| j != self.me && shows(j));
+        sample_visible_point(self.sight, self.me, &shows, &nobody, None, stream)
+            .map(|j| self.looker.direction_of(j))
+    }
+
+    fn sees_light(&self, light: usize) -> bool {
+        if self.lights.is_empty() {
+            return light == 0 && self.looker.count_visible_up_to(1) > 0;
+        }
+        (0..self.sight.len()).any(|j| {
+            j != self.me && self.light(j) == light && self.sight.is_visible_point(self.me, j)
+        })
+    }
+}
+
+impl<P: Point, S: Sight<P> + ?Sized> Looker<'_, P, S> {
     fn sole_visible(&self) -> Option<P> {
         match self {
             Looker::Ola(o) => o.sole_visible(),
@@ -295,6 +424,25 @@ impl<'a, M: Sensing, V: Point> Observation<'a, M, V> {
     /// The directions of every visible point, in unspecified order (a full look).
     pub fn directions(&self) -> Vec<V> {
         self.probe.seen().into_iter().map(|s| s.direction).collect()
+    }
+
+    /// Every visible point with the colour its robot shows (the luminous-robot model:
+    /// [`Algorithm::LIGHTS`](super::Algorithm::LIGHTS)), in the order of
+    /// [`Observation::directions`] (a full look). Without lights every colour is 0.
+    pub fn lit(&self) -> Vec<Lit<V>> {
+        self.probe.lit()
+    }
+
+    /// The direction of a uniformly random visible point whose robot shows colour
+    /// `light`, if any (the shared sampling procedure, as [`Observation::random_visible`]).
+    pub fn random_lit(&self, light: usize, rng: &mut Stream) -> Option<V> {
+        self.probe.random_lit(light, rng)
+    }
+
+    /// Whether a visible point's robot shows colour `light` (it costs a line of sight
+    /// for each robot showing it, until one is visible).
+    pub fn sees_light(&self, light: usize) -> bool {
+        self.probe.sees_light(light)
     }
 }
 

@@ -58,7 +58,8 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> LdObservation<'a, P, S> {
         self
     }
 
-    fn local(&self, j: usize) -> P {
+    /// The direction of robot `j` in the local frame, as perceived.
+    pub(crate) fn local(&self, j: usize) -> P {
         P::to_local(
             &self.frame,
             self.perception

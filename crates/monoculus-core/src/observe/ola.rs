@@ -92,7 +92,8 @@ impl<'a, P: Point, S: Sight<P> + ?Sized> OlaObservation<'a, P, S> {
         P::DIM
     }
 
-    fn local(&self, j: usize) -> P {
+    /// The direction of robot `j` in the local axes, as perceived.
+    pub(crate) fn local(&self, j: usize) -> P {
         let dir = self
             .perception
             .direction(j, direction(self.sight, self.me, j));

@@ -357,6 +357,17 @@ impl AsyncClock {
 #[derive(Resource, Clone, Debug)]
 pub struct Clocks<P: IndexPoint>(pub Vec<Timing<P>>);
 
+/// The colours the robots show under ASYNC, for an algorithm with lights (both empty
+/// otherwise): `shown[r]` is what the others see of robot `r`, `set[r]` what its last
+/// decision set, shown from the end of that Compute on (SPEC section 10).
+#[derive(Resource, Clone, Debug, Default)]
+pub struct Lights {
+    /// What each robot shows.
+    pub shown: Vec<u8>,
+    /// What each robot's last decision set.
+    pub set: Vec<u8>,
+}
+
 impl<P: IndexPoint> Clocks<P> {
     /// `n` robots Idle from tick 0, their first phase end not yet drawn.
     pub fn new(n: usize) -> Self {

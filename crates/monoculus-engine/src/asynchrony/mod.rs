@@ -16,7 +16,7 @@ mod spec;
 mod systems;
 
 pub use committed::CommittedHull;
-pub use components::{AsyncClock, Clocks, Phase, RobotEntities, Timing};
+pub use components::{AsyncClock, Clocks, Lights, Phase, RobotEntities, Timing};
 pub use shape::KeptShape;
 pub use sight::{Located, LookSight, Looking, TickSight};
 pub use spec::{AsyncSpec, AsyncStart, TickDist};

@@ -8,13 +8,13 @@ use rayon::prelude::*;
 use super::parallel::{MANY_EVENTS, join_if, map_events, update_robots};
 use super::sight::Looking;
 use super::{
-    AsyncClock, AsyncSpec, Clocks, CommittedHull, KeptShape, LookSight, Phase, RobotEntities,
-    TickDist, Timing,
+    AsyncClock, AsyncSpec, Clocks, CommittedHull, KeptShape, Lights, LookSight, Phase,
+    RobotEntities, TickDist, Timing,
 };
 use crate::algorithm::Rule;
 use crate::faults::Role;
 use crate::resources::{Params, Positions, Shape, SnapshotSight, Tally};
-use crate::systems::{Item, KeptBy, MemoryOf, decide_items, decide_one, realise};
+use crate::systems::{Item, KeptBy, MemoryOf, decide_items, decide_one, light, realise};
 use crate::{IndexPoint, SchedulerSpec};
 
 /// The phases of one event tick, run in this order.
@@ -146,9 +146,17 @@ pub fn finish_computes<P: IndexPoint>(
     mut tally: ResMut<Tally>,
     positions: Res<Positions<P>>,
     (mut kept_shape, mut sight): (ResMut<KeptShape<P>>, ResMut<LookSight<P>>),
+    mut lights: ResMut<Lights>,
 ) {
     let t = clock.tick;
     let ending = clock.take_ending(Phase::Compute);
+    // The colours set by these Computes are shown from now on.
+    if !lights.set.is_empty() {
+        let Lights { shown, set } = &mut *lights;
+        for &r in &ending {
+            shown[r as usize] = set[r as usize];
+        }
+    }
     // Each robot's Move phase, drawn from its own stream, and where it departs from,
     // on both threads on a crowded tick; then, in robot order, the agenda and tallies.
     let motion = spec(&params).motion;
@@ -223,7 +231,7 @@ type Looker<P, A> = (u32, u64, Option<KeptBy<P, A>>);
 
 fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     (params, algorithm): (&Params, &A),
-    sight: &S,
+    view: (&S, &[u8]),
     epoch: u64,
     inputs: &[Looker<P, A>],
 ) -> Vec<Decided<P, A>> {
@@ -240,7 +248,7 @@ fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
             .filter(|(r, ..)| !crashed(*r))
             .map(|(r, cycle, m)| (*r as usize, *cycle, m.clone()))
             .collect();
-        let mut decided = decide_items(params, algorithm, sight, &mut items)
+        let mut decided = decide_items(params, algorithm, view, &mut items)
             .into_iter()
             .zip(items);
         return inputs
@@ -262,7 +270,7 @@ fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
             if crashed(r) {
                 return (None, memory);
             }
-            let d = decide_one(params, algorithm, sight, r as usize, cycle, memory.as_mut())
+            let d = decide_one(params, algorithm, view, r as usize, cycle, memory.as_mut())
                 .map(|d| realise(params, r as usize, cycle, d));
             (d, memory)
         })
@@ -290,7 +298,7 @@ pub fn look<P: IndexPoint, A: Algorithm>(
     (mut clock, mut clocks): (ResMut<AsyncClock>, ResMut<Clocks<P>>),
     entities: Res<RobotEntities>,
     positions: Res<Positions<P>>,
-    mut tally: ResMut<Tally>,
+    (mut tally, mut lights): (ResMut<Tally>, ResMut<Lights>),
     (mut committed, mut sight, mut kept_shape): LookState<P>,
     mut memories: Query<&mut MemoryOf<P, A>>,
 ) {
@@ -326,18 +334,31 @@ pub fn look<P: IndexPoint, A: Algorithm>(
         || sight.ready(&params, t, pos, lookers.len()),
     );
     let rule = (&*params, &*algorithm.0);
+    let shown = &lights.shown[..];
     let outputs = match sight.at(&params, t, pos, &kept_shape) {
-        Looking::Made(s) => decide_all(rule, &s, clock.epochs, &inputs),
-        Looking::Moving(s) => decide_all(rule, &s, clock.epochs, &inputs),
+        Looking::Made(s) => decide_all(rule, (&s, shown), clock.epochs, &inputs),
+        Looking::Moving(s) => decide_all(rule, (&s, shown), clock.epochs, &inputs),
         Looking::Snapshot(SnapshotSight::Index(s)) => {
             // Built here (if it must be), its two layouts in parallel, not by the first
             // decision while the other threads wait.
             s.build_index();
-            decide_all(rule, s, clock.epochs, &inputs)
+            decide_all(rule, (s, shown), clock.epochs, &inputs)
         }
-        Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(rule, s, clock.epochs, &inputs),
-        Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(rule, s, clock.epochs, &inputs),
+        Looking::Snapshot(SnapshotSight::Exact(s)) => {
+            decide_all(rule, (s, shown), clock.epochs, &inputs)
+        }
+        Looking::Snapshot(SnapshotSight::Rtree(s)) => {
+            decide_all(rule, (s, shown), clock.epochs, &inputs)
+        }
     };
+    // The colours the decisions set, shown when their Computes end.
+    if !lights.set.is_empty() {
+        for (&r, (_, memory)) in lookers.iter().zip(&outputs) {
+            if let Some(m) = memory {
+                lights.set[r as usize] = light::<A>(&m.state);
+            }
+        }
+    }
     // Each robot's clock (its Compute phase drawn from its own stream), on both threads
     // on a crowded tick; then, in robot order, its memory, the agenda and the
     // committed hull.

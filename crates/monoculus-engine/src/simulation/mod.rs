@@ -314,6 +314,9 @@ pub(crate) struct Hooks {
     pub(crate) terminated: fn(&mut World) -> Option<u64>,
     /// The byte of each robot's state that a replay shows, by robot (empty if none).
     pub(crate) shown_bits: fn(&World) -> Vec<(u32, u8)>,
+    /// The colour each robot's state shows, by robot (empty: the algorithm has no
+    /// lights).
+    pub(crate) lights: fn(&mut World) -> Vec<u8>,
 }
 
 /// Installs `algorithm` into a run: its resource, the robots (with their kept frames and
@@ -344,5 +347,6 @@ pub(crate) fn install<P: IndexPoint, A: Algorithm>(
         restore: run::restore_states::<P, A>,
         terminated: run::terminated::<P, A>,
         shown_bits: view::shown_bits::<P, A>,
+        lights: run::lights::<P, A>,
     }
 }

@@ -2,12 +2,21 @@
 
 use super::*;
 
-/// Whether no correct robot would move if activated now (the robots' states copied:
-/// nothing is changed).
+/// Whether no correct robot would move if activated now, nor change the light it shows
+/// (the robots' states copied: nothing is changed). A robot that would only change its
+/// light is not quiescent: the others may act on it.
 pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool {
     refresh_snapshot::<P>(world);
     let params = world.resource::<Params>().clone();
     let mut q = world.query::<(&Robot, Option<&MemoryOf<P, A>>)>();
+    // The colours shown: ASYNC keeps them (a robot shows its new colour once its
+    // Compute ends); the others show their states'.
+    let lights = match world.get_resource::<crate::asynchrony::Lights>() {
+        // A colour set by a Compute that has not ended yet is a change to come.
+        Some(l) if l.shown != l.set => return false,
+        Some(l) => l.shown.clone(),
+        None => lights::<P, A>(world),
+    };
     let robots: Vec<(usize, Option<KeptBy<P, A>>)> = q
         .iter(world)
         .filter(|(r, _)| params.is_correct(r.index as usize))
@@ -17,7 +26,7 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
     let snapshot = world.resource::<Snapshot<P>>();
     fn any_moves<P: IndexPoint, S: Sight<P>, A: Algorithm>(
         (params, algorithm): (&Params, &A),
-        sight: &S,
+        view: (&S, &[u8]),
         robots: &[(usize, Option<KeptBy<P, A>>)],
     ) -> bool {
         if algorithm.decides_together() {
@@ -25,19 +34,32 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
                 .iter()
                 .map(|(i, m)| (*i, u64::MAX, m.clone()))
                 .collect();
-            let decided = crate::systems::decide_items(params, algorithm, sight, &mut items);
-            return decided.iter().any(Option::is_some);
+            let decided = crate::systems::decide_items(params, algorithm, view, &mut items);
+            return decided.iter().any(Option::is_some)
+                || items
+                    .iter()
+                    .zip(robots)
+                    .any(|((.., after), (_, before))| relit::<P, A>(before, after));
         }
-        robots.par_iter().with_min_len(32).any(|(i, memory)| {
-            let mut memory = memory.clone();
-            decide_one(params, algorithm, sight, *i, u64::MAX, memory.as_mut()).is_some()
+        robots.par_iter().with_min_len(32).any(|(i, before)| {
+            let mut after = before.clone();
+            decide_one(params, algorithm, view, *i, u64::MAX, after.as_mut()).is_some()
+                || relit::<P, A>(before, &after)
         })
+    }
+    /// Whether an activation changed the robot's light.
+    fn relit<P: IndexPoint, A: Algorithm>(
+        before: &Option<KeptBy<P, A>>,
+        after: &Option<KeptBy<P, A>>,
+    ) -> bool {
+        let light = |m: &Option<KeptBy<P, A>>| m.as_ref().map(|m| A::light(&m.state));
+        !A::LIGHTS.is_empty() && light(before) != light(after)
     }
     let rule = (&params, &*algorithm);
     let quiet = match snapshot.sight.as_ref().expect("snapshot refreshed") {
-        SnapshotSight::Index(s) => !any_moves(rule, s, &robots),
-        SnapshotSight::Exact(s) => !any_moves(rule, s, &robots),
-        SnapshotSight::Rtree(s) => !any_moves(rule, s, &robots),
+        SnapshotSight::Index(s) => !any_moves(rule, (s, &lights), &robots),
+        SnapshotSight::Exact(s) => !any_moves(rule, (s, &lights), &robots),
+        SnapshotSight::Rtree(s) => !any_moves(rule, (s, &lights), &robots),
     };
     if matches!(params.scheduler, SchedulerSpec::Async(_)) {
         // ASYNC's Looks see through their own sight: the snapshot taken for this
@@ -45,6 +67,19 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
         world.resource_mut::<Snapshot<P>>().sight = None;
     }
     quiet
+}
+
+/// The colour each robot's state shows (empty when `A` has no lights).
+pub(super) fn lights<P: IndexPoint, A: Algorithm>(world: &mut World) -> Vec<u8> {
+    if A::LIGHTS.is_empty() {
+        return Vec::new();
+    }
+    let mut q = world.query::<(&Robot, Option<&MemoryOf<P, A>>)>();
+    crate::systems::lights_of::<A>(
+        q.iter(world).count(),
+        q.iter(world)
+            .filter_map(|(r, m)| Some((r.index as usize, &m?.0.state))),
+    )
 }
 
 type Saved<P, A> = Vec<(Entity, KeptBy<P, A>)>;
@@ -223,17 +258,22 @@ impl<P: IndexPoint> Simulation<P> {
             }
             let before = *self.world.resource::<Tally>();
             let check = fsync && quiescence;
-            let saved = if check {
-                (self.hooks.save)(&mut self.world)
+            let (saved, lit) = if check {
+                let lit = (self.hooks.lights)(&mut self.world);
+                ((self.hooks.save)(&mut self.world), lit)
             } else {
-                None
+                (None, Vec::new())
             };
             self.step();
-            if check && self.world.resource::<Tally>().round_moves == 0 && self.failure().is_none()
+            if check
+                && self.world.resource::<Tally>().round_moves == 0
+                && self.failure().is_none()
+                && (self.hooks.lights)(&mut self.world) == lit
             {
-                // Nobody moved with everybody activated: the configuration before this
-                // round was quiescent. The round was the check, not a round of the run:
-                // its activations and the states it changed are undone.
+                // Nobody moved (nor changed its light) with everybody activated: the
+                // configuration before this round was quiescent. The round was the
+                // check, not a round of the run: its activations and the states it
+                // changed are undone.
                 *self.world.resource_mut::<Tally>() = before;
                 if let Some(saved) = saved {
                     (self.hooks.restore)(&mut self.world, saved);

@@ -17,6 +17,7 @@ pub(super) fn insert_async_resources<P: IndexPoint>(
     world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
     world.insert_resource(RobotEntities(Vec::new()));
     world.insert_resource(Clocks::<P>::new(initial.len()));
+    world.insert_resource(asynchrony::Lights::default());
 }
 
 /// Wires the ASYNC scheduler over the robots spawned as `entities` (by index): every
@@ -40,6 +41,11 @@ pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(
         clock.schedule(until, i);
     }
     *world.resource_mut::<AsyncClock>() = clock;
+    let lights = crate::systems::lights_of::<A>(entities.len(), std::iter::empty());
+    *world.resource_mut::<asynchrony::Lights>() = asynchrony::Lights {
+        shown: lights.clone(),
+        set: lights,
+    };
     world.resource_mut::<RobotEntities>().0 = entities;
     schedule.configure_sets(
         (

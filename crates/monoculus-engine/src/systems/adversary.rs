@@ -7,7 +7,7 @@ use monoculus_core::algorithms::Algorithm;
 use monoculus_core::vision::Sight;
 use rayon::prelude::*;
 
-use super::compute::{Item, KeptBy, MemoryOf, decide_items};
+use super::compute::{Item, KeptBy, MemoryOf, decide_items, lights_of};
 use super::hull_grew;
 use crate::algorithm::Rule;
 use crate::components::{Activated, Robot, Waiting};
@@ -21,8 +21,14 @@ fn decisions<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     round: u64,
     robots: &[(usize, Option<KeptBy<P, A>>)],
 ) -> Vec<Option<P>> {
+    let lights = lights_of::<A>(
+        sight.len(),
+        robots
+            .iter()
+            .filter_map(|(i, m)| Some((*i, &m.as_ref()?.state))),
+    );
     let mut items: Vec<Item<P, A>> = robots.iter().map(|(i, m)| (*i, round, m.clone())).collect();
-    decide_items(params, algorithm, sight, &mut items)
+    decide_items(params, algorithm, (sight, &lights), &mut items)
 }
 
 /// The robots the adversary activates besides the forced ones: by `objective`, among

@@ -1,6 +1,6 @@
 use bevy_ecs::prelude::*;
 use monoculus_core::algorithms::{
-    Algorithm, BadDecision, Kept, activate, activate_together, certainly_stays,
+    Algorithm, BadDecision, Kept, activate_lit, activate_together, certainly_stays,
 };
 use monoculus_core::rng::{Purpose, Stream};
 use monoculus_core::vision::Sight;
@@ -15,6 +15,33 @@ use crate::{IndexPoint, SchedulerSpec};
 
 /// What a robot keeps, if its algorithm has a state.
 pub type KeptBy<P, A> = Kept<P, <A as Algorithm>::State>;
+
+/// What a robot looks at: the sight of the swarm and the colour each robot shows (empty
+/// when the algorithm has no lights).
+pub type View<'a, S> = (&'a S, &'a [u8]);
+
+/// The colour each of `n` robots shows, from the states of those that keep one (the
+/// others show the light of the default state); empty when `A` declares no lights
+/// ([`Algorithm::LIGHTS`]).
+pub fn lights_of<'a, A: Algorithm>(
+    n: usize,
+    states: impl Iterator<Item = (usize, &'a A::State)>,
+) -> Vec<u8> {
+    if A::LIGHTS.is_empty() {
+        return Vec::new();
+    }
+    let mut lights = vec![light::<A>(&A::State::default()); n];
+    for (k, state) in states {
+        lights[k] = light::<A>(state);
+    }
+    lights
+}
+
+/// The colour a robot with `state` shows, as kept (a light out of the palette fails the
+/// run at the robot's activation; it is shown as 0 until then).
+pub fn light<A: Algorithm>(state: &A::State) -> u8 {
+    u8::try_from(A::light(state)).unwrap_or(0)
+}
 
 /// What happens to robot `robot` in `round` before its algorithm is asked: `Some` when
 /// that is decided already (a crashed robot stays from its crash round on; a Byzantine
@@ -67,7 +94,7 @@ fn record(params: &Params, robot: usize, round: u64, bad: BadDecision) {
 pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized, A: Algorithm>(
     params: &Params,
     algorithm: &A,
-    sight: &S,
+    (sight, lights): View<'_, S>,
     robot: usize,
     round: u64,
     memory: Option<&mut KeptBy<P, A>>,
@@ -76,7 +103,14 @@ pub fn decide_one<P: IndexPoint, S: Sight<P> + ?Sized, A: Algorithm>(
         return d;
     }
     let mut stream = decide_stream(params, robot, round);
-    match activate(algorithm, &params.model, sight, robot, memory, &mut stream) {
+    match activate_lit(
+        algorithm,
+        &params.model,
+        (sight, lights),
+        robot,
+        memory,
+        &mut stream,
+    ) {
         Ok(d) => d,
         Err(bad) => {
             record(params, robot, round, bad);
@@ -97,14 +131,16 @@ pub type Item<P, A> = (usize, u64, Option<KeptBy<P, A>>);
 pub fn decide_items<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     params: &Params,
     algorithm: &A,
-    sight: &S,
+    (sight, lights): View<'_, S>,
     items: &mut [Item<P, A>],
 ) -> Vec<Option<P>> {
     if !algorithm.decides_together() {
         return items
             .par_iter_mut()
             .with_min_len(32)
-            .map(|(r, round, m)| decide_one(params, algorithm, sight, *r, *round, m.as_mut()))
+            .map(|(r, round, m)| {
+                decide_one(params, algorithm, (sight, lights), *r, *round, m.as_mut())
+            })
             .collect();
     }
     let mut out = vec![None; items.len()];
@@ -119,7 +155,7 @@ pub fn decide_items<P: IndexPoint, S: Sight<P>, A: Algorithm>(
             }
         }
     }
-    let decided = activate_together(algorithm, &params.model, sight, &mut batch);
+    let decided = activate_together(algorithm, &params.model, (sight, lights), &mut batch);
     for ((k, robot, round), d) in at.into_iter().zip(decided) {
         match d {
             Ok(d) => out[k] = d,
@@ -209,14 +245,14 @@ fn holds(bits: &[u64], k: usize) -> bool {
 fn decide_item<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     (params, algorithm): (&Params, &A),
     round: u64,
-    sight: &S,
+    view: View<'_, S>,
     (robot, _, intent, memory): &mut RobotItem<'_, P, A>,
 ) {
     let i = robot.index as usize;
     intent.0 = decide_one(
         params,
         algorithm,
-        sight,
+        view,
         i,
         round,
         memory.as_mut().map(|m| &mut m.0),
@@ -231,7 +267,7 @@ fn decide_item<P: IndexPoint, S: Sight<P>, A: Algorithm>(
 fn decide_batched<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     params: (&Params, &A),
     round: u64,
-    sight: &S,
+    view: View<'_, S>,
     bits: &[u64],
     robots: &mut Robots<'_, '_, P, A>,
 ) {
@@ -248,13 +284,13 @@ fn decide_batched<P: IndexPoint, S: Sight<P>, A: Algorithm>(
         }
         if items.len() < FEW {
             for item in &mut items {
-                decide_item(params, round, sight, item);
+                decide_item(params, round, view, item);
             }
         } else {
             items
                 .par_iter_mut()
                 .with_min_len(32)
-                .for_each(|item| decide_item(params, round, sight, item));
+                .for_each(|item| decide_item(params, round, view, item));
         }
     }
 }
@@ -268,7 +304,7 @@ fn decide_batched<P: IndexPoint, S: Sight<P>, A: Algorithm>(
 fn decide_in_order<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     (params, algorithm): (&Params, &A),
     round: u64,
-    sight: &S,
+    view: View<'_, S>,
     order: SpatialOrder<'_>,
     (bits, with_memory): (&[u64], bool),
     robots: &mut Robots<'_, '_, P, A>,
@@ -289,7 +325,7 @@ fn decide_in_order<P: IndexPoint, S: Sight<P>, A: Algorithm>(
         if !holds(bits, k) {
             return None;
         }
-        decide_one(params, algorithm, sight, k, round, memory).map(|d| realise(params, k, round, d))
+        decide_one(params, algorithm, view, k, round, memory).map(|d| realise(params, k, round, d))
     };
     // Collected in rank order (each written once, in parallel).
     let decided: Vec<Option<P>> = if with_memory {
@@ -325,7 +361,7 @@ fn decide_in_order<P: IndexPoint, S: Sight<P>, A: Algorithm>(
 fn decide_together<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     (params, algorithm): (&Params, &A),
     round: u64,
-    sight: &S,
+    view: View<'_, S>,
     bits: &[u64],
     robots: &mut Robots<'_, '_, P, A>,
 ) {
@@ -335,7 +371,7 @@ fn decide_together<P: IndexPoint, S: Sight<P>, A: Algorithm>(
         .map(|(r, _, _, m)| (r.index as usize, round, m.map(|m| m.0.clone())))
         .collect();
     items.sort_unstable_by_key(|(r, ..)| *r);
-    let decided = decide_items(params, algorithm, sight, &mut items);
+    let decided = decide_items(params, algorithm, view, &mut items);
     let mut by_robot: std::collections::HashMap<usize, Decided<P, A>> = items
         .into_iter()
         .zip(decided)
@@ -365,15 +401,23 @@ fn compute_all<'a, P: IndexPoint, S: Sight<P>, A: Algorithm>(
     robots: &mut Robots<'_, '_, P, A>,
 ) {
     let (bits, count, with_memory) = deciding::<P, S, A>(params.0, sight, robots);
+    // The colours shown are those of the states before this Compute.
+    let lights = lights_of::<A>(
+        Sight::len(sight),
+        robots
+            .iter()
+            .filter_map(|(r, _, _, m)| Some((r.index as usize, &m?.0.state))),
+    );
+    let view = (sight, &lights[..]);
     if params.1.decides_together() {
-        return decide_together(params, round, sight, &bits, robots);
+        return decide_together(params, round, view, &bits, robots);
     }
     if count >= FEW
         && let Some(order) = order().filter(|o| o.robots.len() == Sight::len(sight))
     {
-        return decide_in_order(params, round, sight, order, (&bits, with_memory), robots);
+        return decide_in_order(params, round, view, order, (&bits, with_memory), robots);
     }
-    decide_batched(params, round, sight, &bits, robots);
+    decide_batched(params, round, view, &bits, robots);
 }
 
 /// Compute: every activated robot decides against the Look snapshot, in parallel

@@ -13,7 +13,10 @@ use bevy_ecs::prelude::*;
 
 pub use activate::activate_robots;
 pub use adversary::{choose_adversarially, preferred};
-pub use compute::{Item, KeptBy, MemoryOf, compute_intents, decide_items, decide_one, realise};
+pub use compute::{
+    Item, KeptBy, MemoryOf, View, compute_intents, decide_items, decide_one, light, lights_of,
+    realise,
+};
 pub use look::{build_sight, refresh_snapshot, take_snapshot};
 pub use measure::{
     HULL_GROWTH_TOLERANCE, advance_clock, hull_grew, measure_committed, measure_shape, record_hull,
