@@ -199,21 +199,23 @@ fn async_stretch(c: &mut Criterion) {
         compute: TickDist::Uniform { min: 1, max: 5 },
         motion: TickDist::Exponential { mean: 4.0 },
         start: AsyncStart::Random,
+        durations: None,
     };
     let fine = AsyncSpec {
         idle: TickDist::Uniform { min: 1, max: 1000 },
         compute: TickDist::Uniform { min: 1, max: 500 },
         motion: TickDist::Exponential { mean: 400.0 },
         start: AsyncStart::Random,
+        durations: None,
     };
     for n in [10_000usize, 100_000] {
-        for (label, timing) in [("coarse", coarse), ("x100", fine)] {
+        for (label, timing) in [("coarse", &coarse), ("x100", &fine)] {
             let pts = unit_density(n, 6);
             g.bench_function(BenchmarkId::new(label, n), |b| {
                 b.iter_batched_ref(
                     || {
                         let mut cfg = paper_config(AlgorithmKind::ConvergeLocality, 6);
-                        cfg.scheduler = SchedulerSpec::Async(timing);
+                        cfg.scheduler = SchedulerSpec::Async(timing.clone());
                         let mut sim = Simulation::new(cfg.clone(), pts.clone()).unwrap();
                         while sim.async_progress().is_some_and(|(_, e)| e == 0) {
                             sim.step();

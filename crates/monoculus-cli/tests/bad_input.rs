@@ -557,3 +557,77 @@ fn a_negative_robot_radius_is_fails() {
         "error: bad.toml:15: vision.robot_radius: must be non-negative, got -0.5"
     );
 }
+
+#[test]
+fn bad_durations_files_name_their_file_and_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let with_durations = |csv: &str, scheduler: &str| {
+        std::fs::write(tmp.path().join("d.csv"), csv).unwrap();
+        let text = format!("{GOOD}\n[scheduler]\n{scheduler}\ndurations = \"d.csv\"\n");
+        let cfg = tmp.path().join("bad.toml");
+        std::fs::write(&cfg, text).unwrap();
+        let e = fails(&["check", cfg.to_str().unwrap()]);
+        one_line(&e)
+            .replace(cfg.to_str().unwrap(), "bad.toml")
+            .replace(tmp.path().join("d.csv").to_str().unwrap(), "d.csv")
+    };
+    let asynchronous = "kind = \"async\"";
+    for (csv, expected) in [
+        (
+            "robot,cycle,phase,ticks\n1,0,move,3\n10,0,move,3\n",
+            "d.csv:3: robot 10, but the swarm has 10 robots (numbered from 0)",
+        ),
+        (
+            "robot,cycle,phase,ticks\n1,4,move,3\n1,4,move,5\n",
+            "d.csv:3: the move phase of robot 1's cycle 4 is given twice (first on line 2)",
+        ),
+        (
+            "robot,cycle,phase,ticks\n1,4,look,3\n",
+            "d.csv:2: column phase: `look` is not idle, compute or move",
+        ),
+        (
+            "robot,cycle,phase,ticks\n1,4,idle,0\n",
+            "d.csv:2: column ticks: `0` is not a whole number of ticks from 1 to 2^40",
+        ),
+        (
+            "robot,cycle,phase,ticks\n1,-4,idle,2\n",
+            "d.csv:2: column cycle: `-4` is not a cycle number (0, 1, ...)",
+        ),
+        (
+            "robot,cycle,ticks\n1,4,2\n",
+            "d.csv:1: header must name columns robot, cycle, phase and ticks, got `robot,cycle,ticks`",
+        ),
+        (
+            "robot,cycle,phase,ticks\n2,0,compute,3\n3,0,idle,3\n",
+            "d.csv:3: robot 3's cycle 0 has no idle phase: with scheduler.start = \"together\" every robot Looks at tick 0 (give cycle 0 an idle phase only with start = \"random\")",
+        ),
+    ] {
+        let e = with_durations(csv, asynchronous);
+        assert_eq!(
+            e,
+            format!("error: bad.toml:16: scheduler.durations: {expected}"),
+            "{csv}"
+        );
+    }
+    // With robots starting at random, cycle 0 has an Idle phase.
+    let fine = "robot,cycle,phase,ticks\n3,0,idle,3\n";
+    std::fs::write(tmp.path().join("d.csv"), fine).unwrap();
+    let cfg = tmp.path().join("good.toml");
+    std::fs::write(
+        &cfg,
+        format!(
+            "{GOOD}\n[scheduler]\nkind = \"async\"\nstart = \"random\"\ndurations = \"d.csv\"\n"
+        ),
+    )
+    .unwrap();
+    assert!(
+        monoculus(&["check", cfg.to_str().unwrap()])
+            .status
+            .success()
+    );
+    let e = with_durations(fine, "kind = \"ssync\"");
+    assert_eq!(
+        e,
+        "error: bad.toml:16: scheduler.durations: durations are given only with kind = \"async\", not \"ssync\""
+    );
+}

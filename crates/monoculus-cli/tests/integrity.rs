@@ -103,6 +103,27 @@ fn an_input_file_changed_between_shards_or_before_a_resume_is_refused_by_name() 
     assert_eq!(read(&whole.join("runs.csv")), before);
     // The identity is in every row: config.toml records each file's hash.
     assert!(read(&whole.join("config.toml")).contains("# input swarm.file \"start.csv\" "));
+    // ASYNC durations given from a file are an input too.
+    let timed = tmp.path().join("timed.toml");
+    let text = read(&cfg).replace(
+        "kind = \"file\"\nfile = \"schedule.csv\"",
+        "kind = \"async\"\ndurations = \"durations.csv\"",
+    );
+    assert!(text.contains("durations.csv"), "{text}");
+    std::fs::write(&timed, text).unwrap();
+    let durations = tmp.path().join("durations.csv");
+    std::fs::write(&durations, "robot,cycle,phase,ticks\n1,0,compute,9\n").unwrap();
+    let async_out = tmp.path().join("async");
+    ok(&["run", s(&timed), "--out", s(&async_out)]);
+    assert!(read(&async_out.join("config.toml")).contains("# input scheduler.durations "));
+    std::fs::write(&durations, "robot,cycle,phase,ticks\n1,0,compute,8\n").unwrap();
+    let e = fails(&["run", s(&timed), "--out", s(&async_out)]);
+    assert!(
+        e.contains("scheduler.durations")
+            && e.contains("durations.csv")
+            && e.contains("has changed"),
+        "{e}"
+    );
 }
 
 // 2. No command writes over its own inputs, or two outputs to one path.

@@ -16,6 +16,7 @@ fn lockstep(i: u64, c: u64, m: u64) -> AsyncSpec {
         compute: TickDist::Fixed { ticks: c },
         motion: TickDist::Fixed { ticks: m },
         start: AsyncStart::Together,
+        durations: None,
     }
 }
 
@@ -25,6 +26,7 @@ fn random_timing(start: AsyncStart) -> AsyncSpec {
         compute: TickDist::Exponential { mean: 3.0 },
         motion: TickDist::Uniform { min: 1, max: 6 },
         start,
+        durations: None,
     }
 }
 
@@ -303,6 +305,7 @@ fn the_moving_index_agrees_with_the_exact_backend_at_every_time_resolution() {
             mean: 0.8 * scale as f64,
         },
         start: AsyncStart::Random,
+        durations: None,
     };
     let starts = [
         ("random", common::square(150, 12.0, 5)),

@@ -118,6 +118,7 @@ fn errors_under_async_are_deterministic_across_threads() {
                     compute: TickDist::Fixed { ticks: 2 },
                     motion: TickDist::Exponential { mean: 3.0 },
                     start: AsyncStart::Random,
+                    durations: None,
                 });
                 cfg.model.errors = ObservationErrors {
                     flip_p: 0.2,

@@ -300,6 +300,7 @@ fn lockstep_async_with_faults_is_fsync_with_faults() {
                 compute: TickDist::Fixed { ticks: 1 },
                 motion: TickDist::Fixed { ticks: 3 },
                 start: AsyncStart::Together,
+                durations: None,
             });
             let mut asim = Simulation::new(cfg, start).unwrap();
             let mut a = asim.run();
@@ -327,6 +328,7 @@ fn crashes_under_async_stop_the_robot_and_the_run_is_seeded() {
         compute: TickDist::Uniform { min: 1, max: 3 },
         motion: TickDist::Exponential { mean: 3.0 },
         start: AsyncStart::Random,
+        durations: None,
     });
     cfg.stop.max_rounds = 40;
     let start = common::square(30, 12.0, 12);

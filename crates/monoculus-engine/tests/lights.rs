@@ -113,6 +113,7 @@ fn under_async_a_light_shows_once_the_compute_ends() {
         compute: TickDist::Fixed { ticks: 1000 },
         motion: TickDist::Fixed { ticks: 20 },
         start: AsyncStart::Random,
+        durations: None,
     });
     let mut apart = 0;
     for together in [false, true] {
@@ -197,6 +198,7 @@ fn robots_that_only_change_their_lights_are_not_quiescent() {
         compute: TickDist::Fixed { ticks: 2 },
         motion: TickDist::Fixed { ticks: 1 },
         start: AsyncStart::Together,
+        durations: None,
     });
     for scheduler in [SchedulerSpec::Fsync, asynchronous] {
         let config = SimConfig {

@@ -82,6 +82,7 @@ fn async_results_do_not_depend_on_thread_count() {
         compute: TickDist::Uniform { min: 1, max: 2 },
         motion: TickDist::Exponential { mean: 2.0 },
         start: AsyncStart::Together,
+        durations: None,
     };
     async_is_the_same_on_any_thread_count(spec, 1500, 3);
 }
@@ -95,6 +96,7 @@ fn async_results_at_fine_durations_do_not_depend_on_thread_count() {
         compute: TickDist::Uniform { min: 1, max: 50 },
         motion: TickDist::Exponential { mean: 40.0 },
         start: AsyncStart::Random,
+        durations: None,
     };
     async_is_the_same_on_any_thread_count(spec, 600, 2);
 }

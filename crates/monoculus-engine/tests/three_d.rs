@@ -135,6 +135,7 @@ fn space_runs_under_async_and_match_the_exact_backend() {
                 compute: TickDist::Uniform { min: 1, max: 3 },
                 motion: TickDist::Uniform { min: 1, max: 3 },
                 start: AsyncStart::Random,
+                durations: None,
             }),
             4,
         );

@@ -57,6 +57,7 @@ fn schedulers() -> Vec<SchedulerSpec> {
             compute: TickDist::Uniform { min: 1, max: 3 },
             motion: TickDist::Exponential { mean: 2.0 },
             start: AsyncStart::Random,
+            durations: None,
         }),
         SchedulerSpec::Adversary {
             objective: monoculus_engine::Objective::Grow,

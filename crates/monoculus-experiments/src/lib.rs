@@ -3,6 +3,7 @@
 //! `config.toml`.
 
 pub mod config;
+pub mod durations;
 pub mod hunt;
 pub mod limits;
 pub mod look;

@@ -280,7 +280,12 @@ impl<'a> Csv<'a> {
             1,
             format!(
                 "header must name {plural} {}, got `{}`",
-                columns.join(" and "),
+                match columns.split_last() {
+                    Some((last, rest)) if !rest.is_empty() => {
+                        format!("{} and {last}", rest.join(", "))
+                    }
+                    _ => columns.join(""),
+                },
                 self.headers.iter().collect::<Vec<_>>().join(",")
             ),
         ))
@@ -440,7 +445,7 @@ mod tests {
     #[test]
     fn bad_trace_files_name_the_line() {
         let bad = [
-            ("x,y\n1,2\n", "columns round and robot"),
+            ("x,y\n1,2\n", "columns round, robot, x and y"),
             (
                 "round,robot,x,y\n1,0,0,0\n",
                 ":2: column round: 1 out of order",

@@ -264,7 +264,14 @@ pub fn stress(args: StressArgs, registry: &Registry) -> Result<(), Failure> {
             continue;
         }
         reset_peak_rss();
-        measure(&kind, args.init, args.backend, timing, &pool, &mut row)?;
+        measure(
+            &kind,
+            args.init,
+            args.backend,
+            timing.as_ref(),
+            &pool,
+            &mut row,
+        )?;
         if let Some(l) = &log {
             l.append(&row)?;
         }
@@ -298,6 +305,7 @@ fn async_timing(args: &StressArgs) -> Result<Option<AsyncSpec>, Failure> {
             Start::Together => AsyncStart::Together,
             Start::Random => AsyncStart::Random,
         },
+        durations: None,
     }))
 }
 
@@ -319,7 +327,7 @@ fn measure(
     kind: &AlgorithmBox,
     init: Shape,
     backend: Backend,
-    timing: Option<AsyncSpec>,
+    timing: Option<&AsyncSpec>,
     pool: &rayon::ThreadPool,
     row: &mut StressRow,
 ) -> Result<(), Failure> {
@@ -335,7 +343,7 @@ fn measure(
     let mut config = SimConfig::paper(kind.clone(), row.seed, row.rounds.max(1));
     config.backend = backend.engine();
     if let Some(t) = timing {
-        config.scheduler = SchedulerSpec::Async(t);
+        config.scheduler = SchedulerSpec::Async(t.clone());
     }
     let mut sim = Simulation::new(config, start).map_err(|e| Failure::Input(e.to_string()))?;
     row.setup_s = setup.elapsed().as_secs_f64();

@@ -7,6 +7,7 @@
 mod boxes;
 mod committed;
 mod components;
+mod durations;
 mod kept_hull;
 mod parallel;
 mod roster;
@@ -17,8 +18,9 @@ mod systems;
 
 pub use committed::CommittedHull;
 pub use components::{AsyncClock, Clocks, Lights, Phase, RobotEntities, Timing};
+pub use durations::{Durations, DurationsError, GivenDuration, phase_name};
 pub use shape::KeptShape;
 pub use sight::{Located, LookSight, Looking, TickSight};
-pub use spec::{AsyncSpec, AsyncStart, TickDist};
+pub use spec::{AsyncSpec, AsyncStart, MAX_PHASE_TICKS, TickDist};
 pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};
 pub(crate) use systems::{START, duration, positions_now};

@@ -93,7 +93,7 @@ pub enum AsyncStart {
 }
 
 /// The ASYNC scheduler's timing.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct AsyncSpec {
     /// Idle phase durations.
     pub idle: TickDist,
@@ -103,6 +103,9 @@ pub struct AsyncSpec {
     pub motion: TickDist,
     /// Start offsets.
     pub start: AsyncStart,
+    /// Durations given for single phases of single robots, in place of draws
+    /// (`scheduler.durations`); `None`: every phase is drawn.
+    pub durations: Option<std::sync::Arc<super::Durations>>,
 }
 
 /// The longest phase a duration distribution may draw, ticks (2^40, about 10^12): with
@@ -128,7 +131,8 @@ impl AsyncSpec {
 
     /// Why a run of at most `max_epochs` epochs could overflow its clock, if it could:
     /// the phase (`idle`, `compute`, `move`) or `max_epochs` at fault, and what is
-    /// wrong. A phase may draw at most [`MAX_PHASE_TICKS`]; an epoch lasts at most two
+    /// wrong (`durations`: an Idle phase given to a cycle 0 that has none). A phase may
+    /// last at most [`MAX_PHASE_TICKS`]; an epoch lasts at most two
     /// cycles, so `(max_epochs + 2)` twice-cycles must stay under [`AsyncSpec::MAX_TICKS`].
     ///
     /// ```
@@ -136,28 +140,41 @@ impl AsyncSpec {
     ///
     /// let fine = AsyncSpec::default();
     /// assert!(fine.check(100_000).is_ok());
-    /// let huge = AsyncSpec { idle: TickDist::Fixed { ticks: 1 << 62 }, ..fine };
+    /// let huge = AsyncSpec { idle: TickDist::Fixed { ticks: 1 << 62 }, ..fine.clone() };
     /// assert_eq!(huge.check(100_000).unwrap_err().0, "idle");
-    /// let far = AsyncSpec { idle: TickDist::Exponential { mean: 1e300 }, ..fine };
+    /// let far = AsyncSpec { idle: TickDist::Exponential { mean: 1e300 }, ..fine.clone() };
     /// assert_eq!(far.check(10).unwrap_err().0, "idle");
     /// ```
     pub fn check(&self, max_epochs: u64) -> Result<(), (&'static str, String)> {
-        for (phase, d) in [
-            ("idle", self.idle),
-            ("compute", self.compute),
-            ("move", self.motion),
+        use super::Phase;
+        let given = |phase: Phase| self.durations.as_ref().map_or(0, |d| d.longest(phase)) as f64;
+        let mut cycle = 0.0;
+        for (name, phase, d) in [
+            ("idle", Phase::Idle, self.idle),
+            ("compute", Phase::Compute, self.compute),
+            ("move", Phase::Move, self.motion),
         ] {
             let longest = d.longest();
             if longest.is_nan() || longest > MAX_PHASE_TICKS as f64 {
                 return Err((
-                    phase,
+                    name,
                     format!(
                         "durations of up to {longest:e} ticks: at most 2^40 = {MAX_PHASE_TICKS} ticks a phase (an exponential draw reaches 36.8 times its mean), so that no clock overflows"
                     ),
                 ));
             }
+            cycle += longest.max(given(phase));
         }
-        let cycle = self.idle.longest() + self.compute.longest() + self.motion.longest();
+        if self.start == AsyncStart::Together
+            && let Some(robot) = self.durations.as_ref().and_then(|d| d.first_start())
+        {
+            return Err((
+                "durations",
+                format!(
+                    "robot {robot}'s cycle 0 is given an idle phase, but with start = \"together\" every robot Looks at tick 0 (cycle 0 has an idle phase only with start = \"random\")"
+                ),
+            ));
+        }
         let worst = (max_epochs as f64 + 2.0) * 2.0 * cycle;
         if worst > Self::MAX_TICKS as f64 {
             return Err((
@@ -179,6 +196,7 @@ impl Default for AsyncSpec {
             compute: TickDist::ONE,
             motion: TickDist::ONE,
             start: AsyncStart::Together,
+            durations: None,
         }
     }
 }

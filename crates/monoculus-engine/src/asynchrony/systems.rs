@@ -41,8 +41,26 @@ const MOVE: u64 = 3;
 /// The draw of a random start.
 pub(crate) const START: u64 = 4;
 
-/// A duration for robot `robot` in its cycle `cycle`, from its own stream.
+/// A duration for robot `robot` at its stream's cycle `cycle`: the one given for that
+/// phase ([`AsyncSpec::durations`]), else a draw from its own stream. The streams count
+/// cycles from the Look (a cycle's Move and the Idle after it draw at the next count);
+/// given durations count them as users do, from the Idle before the Look.
 pub(crate) fn duration(params: &Params, robot: u32, cycle: u64, tag: u64, dist: TickDist) -> u64 {
+    if let SchedulerSpec::Async(AsyncSpec {
+        durations: Some(given),
+        ..
+    }) = &params.scheduler
+    {
+        let (user_cycle, phase) = match tag {
+            START => (0, Phase::Idle),
+            IDLE => (cycle, Phase::Idle),
+            COMPUTE => (cycle, Phase::Compute),
+            _ => (cycle.saturating_sub(1), Phase::Move),
+        };
+        if let Some(ticks) = given.get(robot, user_cycle, phase) {
+            return ticks;
+        }
+    }
     dist.sample(&mut monoculus_core::rng::Stream::new(
         params.seed,
         TIMING + tag,
@@ -51,8 +69,8 @@ pub(crate) fn duration(params: &Params, robot: u32, cycle: u64, tag: u64, dist: 
     ))
 }
 
-fn spec(params: &Params) -> AsyncSpec {
-    match params.scheduler {
+fn spec(params: &Params) -> &AsyncSpec {
+    match &params.scheduler {
         SchedulerSpec::Async(s) => s,
         _ => unreachable!("async systems run only under the async scheduler"),
     }

@@ -82,13 +82,18 @@ pub(super) fn validate<P: IndexPoint>(
     {
         return Err(EngineError::Invalid(format!("ASYNC: {message}")));
     }
-    if let Some(robot) = match &config.scheduler {
-        SchedulerSpec::File(list) => list.max_robot(),
+    if let Some((robot, what)) = match &config.scheduler {
+        SchedulerSpec::File(list) => list.max_robot().map(|r| (r, "the schedule activates")),
+        SchedulerSpec::Async(spec) => spec
+            .durations
+            .as_ref()
+            .and_then(|d| d.max_robot())
+            .map(|r| (r, "ASYNC: a duration is given to")),
         _ => None,
     } && robot as usize >= initial.len()
     {
         return Err(EngineError::Invalid(format!(
-            "the schedule activates robot {robot} of {} (robots are numbered from 0)",
+            "{what} robot {robot} of {} (robots are numbered from 0)",
             initial.len()
         )));
     }

@@ -335,7 +335,7 @@ pub(crate) fn install<P: IndexPoint, A: Algorithm>(
     let keeps = algorithm.keeps_state();
     world.insert_resource(Rule(algorithm));
     let entities = build::spawn_robots::<P, A>(world, config, initial, keeps);
-    if let SchedulerSpec::Async(spec) = config.scheduler {
+    if let SchedulerSpec::Async(spec) = &config.scheduler {
         wiring::wire_async::<P, A>(world, schedule, params, spec, entities);
     } else {
         let adversary = matches!(config.scheduler, SchedulerSpec::Adversary { .. });

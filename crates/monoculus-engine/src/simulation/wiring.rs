@@ -26,7 +26,7 @@ pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(
     world: &mut World,
     schedule: &mut Schedule,
     params: &Params,
-    spec: crate::AsyncSpec,
+    spec: &crate::AsyncSpec,
     entities: Vec<Entity>,
 ) {
     let mut clock = std::mem::take(&mut *world.resource_mut::<AsyncClock>());

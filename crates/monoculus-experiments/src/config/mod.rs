@@ -35,6 +35,7 @@ use typed::typed;
 use validate::{validate, validate_axes, validate_run_count};
 
 use crate::Registry;
+use crate::durations::{DurationsFile, parse_durations};
 use crate::positions::{PositionsError, PositionsFile, parse_positions};
 use crate::schedule::{ScheduleFile, parse_schedule};
 
@@ -64,6 +65,8 @@ pub struct Cell {
     pub file_positions: Option<PositionsFile>,
     /// The schedule read from `scheduler.file`, if `scheduler.kind = "file"`.
     pub schedule: Option<std::sync::Arc<monoculus_engine::ActivationList>>,
+    /// The durations read from `scheduler.durations` (ASYNC), if given.
+    pub durations: Option<std::sync::Arc<monoculus_engine::asynchrony::Durations>>,
 }
 
 /// A loaded, validated experiment.
@@ -124,7 +127,7 @@ impl Experiment {
     }
 }
 
-/// A file an experiment reads (`swarm.file`, `scheduler.file`): its contents belong to
+/// A file an experiment reads (`swarm.file`, `scheduler.file`, `scheduler.durations`): its contents belong to
 /// the experiment's identity, so that results are never continued or merged across a
 /// change to it.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -197,6 +197,15 @@ pub struct HuntSpec {
     /// carries its schedule). Default true; false searches the scheduler's seed only.
     #[serde(default = "default_true")]
     pub subsets: bool,
+    /// ASYNC: search single phase durations (the counterexample then carries them, as
+    /// durations.csv). Default true; false searches the run's seed only.
+    #[serde(default = "default_true")]
+    pub durations: bool,
+    /// ASYNC: the longest duration the search gives a phase, ticks. Default 10 times the
+    /// longest typical phase of the config (a fixed length, a uniform maximum, an
+    /// exponential mean), and at least 10.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_ticks: Option<u64>,
 }
 
 fn default_true() -> bool {
@@ -458,6 +467,10 @@ pub struct SchedulerConfig {
     /// `file`: CSV with header `round,robot`, relative to the config file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
+    /// ASYNC: CSV with header `robot,cycle,phase,ticks`, relative to the config file:
+    /// phase lengths given for single cycles of single robots, in place of draws.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub durations: Option<String>,
     /// SSYNC activation probability. Default 0.5.
     #[serde(default = "default_p")]
     pub p: f64,
@@ -537,6 +550,7 @@ impl Default for SchedulerConfig {
         SchedulerConfig {
             kind: SchedulerKind::Fsync,
             file: None,
+            durations: None,
             objective: Objective::Slow,
             p: default_p(),
             fairness: None,

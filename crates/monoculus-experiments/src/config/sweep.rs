@@ -191,7 +191,7 @@ impl Experiment {
             let mut spec = typed(cell_table, &src)?;
             let (algorithm, params) = validate::algorithm(&spec, &src, registry, &mut warnings)?;
             spec.algorithm.params = params;
-            let (file_positions, schedule) = validate(&spec, &src, base, &mut files)?;
+            let loaded = validate(&spec, &src, base, &mut files)?;
             let key = values
                 .iter()
                 .map(|(k, v)| format!("{k}={v}"))
@@ -203,8 +203,9 @@ impl Experiment {
                 values,
                 spec,
                 algorithm,
-                file_positions,
-                schedule,
+                file_positions: loaded.positions,
+                schedule: loaded.schedule,
+                durations: loaded.durations,
             });
         }
         let first = &cells[0].spec;

@@ -63,6 +63,7 @@ impl Cell {
                     compute: sc.compute,
                     motion: sc.motion,
                     start: sc.start,
+                    durations: self.durations.clone(),
                 }),
                 SchedulerKind::Sequential => SchedulerSpec::Sequential { order: sc.order },
                 SchedulerKind::Adversary => SchedulerSpec::Adversary {

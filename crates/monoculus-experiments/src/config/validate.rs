@@ -112,6 +112,7 @@ pub(super) fn name_problem(name: &str) -> Option<String> {
 pub(super) struct Files {
     positions: HashMap<PathBuf, PositionsFile>,
     schedules: HashMap<PathBuf, ScheduleFile>,
+    durations: HashMap<PathBuf, DurationsFile>,
     /// Every file read, in the order first read.
     pub(super) read: Vec<InputFile>,
 }
@@ -133,12 +134,16 @@ impl Files {
     }
 }
 
-/// What a cell reads from files: its positions (`swarm.file`) and schedule
-/// (`scheduler.file`).
-type Loaded = (
-    Option<PositionsFile>,
-    Option<std::sync::Arc<monoculus_engine::ActivationList>>,
-);
+/// What a cell reads from files.
+#[derive(Default)]
+pub(super) struct Loaded {
+    /// `swarm.file`.
+    pub(super) positions: Option<PositionsFile>,
+    /// `scheduler.file`.
+    pub(super) schedule: Option<std::sync::Arc<monoculus_engine::ActivationList>>,
+    /// `scheduler.durations`.
+    pub(super) durations: Option<std::sync::Arc<monoculus_engine::asynchrony::Durations>>,
+}
 
 /// `[faults]`: one of count and fraction, at least one robot correct, the keys of the
 /// kind only.
@@ -449,6 +454,40 @@ pub(super) fn validate(
         }
         (_, None) => None,
     };
+    let durations = match (&sc.durations, sc.kind) {
+        (None, _) => None,
+        (Some(_), kind) if kind != SchedulerKind::Async => {
+            return err(
+                "scheduler.durations",
+                format!(
+                    "durations are given only with kind = \"async\", not {:?}",
+                    format!("{kind:?}").to_lowercase()
+                ),
+            );
+        }
+        (Some(file), _) => {
+            let path = base.join(file);
+            let given = match files.durations.get(&path) {
+                Some(d) => d.clone(),
+                None => {
+                    let d = files
+                        .text("scheduler.durations", file, &path)
+                        .and_then(|text| parse_durations(&text, &path.display().to_string()))
+                        .map_err(|e| src.error("scheduler.durations", e.to_string()))?;
+                    files.durations.insert(path.clone(), d.clone());
+                    d
+                }
+            };
+            let n = file_positions
+                .as_ref()
+                .map_or(s.n.unwrap_or(0), PositionsFile::len);
+            let together = sc.start == monoculus_engine::AsyncStart::Together;
+            if let Err(m) = given.check(n, together, &path.display().to_string()) {
+                return err("scheduler.durations", m);
+            }
+            Some(given.durations)
+        }
+    };
     if let Some(f) = &spec.faults {
         let n = file_positions
             .as_ref()
@@ -497,6 +536,7 @@ pub(super) fn validate(
             compute: sc.compute,
             motion: sc.motion,
             start: sc.start,
+            durations: durations.clone(),
         };
         if let Err((phase, m)) = timing.check(spec.stop.max_rounds) {
             let key = match phase {
@@ -544,5 +584,9 @@ pub(super) fn validate(
             format!("delta_min must be non-negative, got {}", nr.delta_min),
         );
     }
-    Ok((file_positions, schedule))
+    Ok(Loaded {
+        positions: file_positions,
+        schedule,
+        durations,
+    })
 }
