@@ -99,10 +99,15 @@ fn converge_locality_grows_no_hull_and_says_how_much_was_searched() {
 #[test]
 fn the_same_seed_finds_the_same_whatever_the_thread_count() {
     let dir = tempfile::tempdir().unwrap();
-    for (config, evaluations) in [("median", "20000"), ("converge_locality", "1500")] {
+    // The last searches ASYNC durations (and finds nothing, so every move is made).
+    for (config, evaluations, scheduler) in [
+        ("median", "20000", "fsync"),
+        ("converge_locality", "1500", "fsync"),
+        ("converge_locality", "1500", "async"),
+    ] {
         let mut seen = Vec::new();
         for threads in ["1", "2"] {
-            let out = dir.path().join(format!("{config}-{threads}"));
+            let out = dir.path().join(format!("{config}-{scheduler}-{threads}"));
             ok(&[
                 "hunt",
                 s(&repo(&format!("configs/hunt/{config}.toml"))),
@@ -115,6 +120,8 @@ fn the_same_seed_finds_the_same_whatever_the_thread_count() {
                 &format!("hunt.evaluations={evaluations}"),
                 "--set",
                 "hunt.seed=7",
+                "--set",
+                &format!("scheduler.kind={scheduler}"),
             ]);
             let summary: Vec<String> = std::fs::read_to_string(out.join("summary.json"))
                 .unwrap()
@@ -123,9 +130,15 @@ fn the_same_seed_finds_the_same_whatever_the_thread_count() {
                 .map(String::from)
                 .collect();
             let positions = std::fs::read_to_string(out.join("positions.csv")).unwrap();
-            seen.push((summary, positions));
+            let durations = std::fs::read_to_string(out.join("durations.csv")).ok();
+            assert_eq!(
+                durations.is_some(),
+                scheduler == "async",
+                "{config} {scheduler}"
+            );
+            seen.push((summary, positions, durations));
         }
-        assert_eq!(seen[0], seen[1], "{config}");
+        assert_eq!(seen[0], seen[1], "{config} {scheduler}");
     }
 }
 
@@ -202,6 +215,55 @@ fn slow_reports_the_rounds_that_run_replays() {
 }
 
 #[test]
+fn an_async_counterexample_carries_its_durations_and_replays_from_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = repo("configs/hunt/stale_view.toml");
+    let (out, replayed) = hunt_and_replay(dir.path(), &config, &[]);
+    assert_eq!(field(&out, "found"), "true");
+    assert_eq!(field(&out, "shrunk"), "true");
+    assert_eq!(field(&out, "durations_searched"), "true");
+    // Shrunk to the one long phase that makes the view stale.
+    assert_eq!(field(&out, "durations_given"), "1");
+    let durations = std::fs::read_to_string(out.join("durations.csv")).unwrap();
+    assert!(
+        durations.starts_with("robot,cycle,phase,ticks\n") && durations.lines().count() == 2,
+        "{durations}"
+    );
+    let reproduce = std::fs::read_to_string(out.join("reproduce.toml")).unwrap();
+    assert!(
+        reproduce.contains("durations = \"durations.csv\""),
+        "{reproduce}"
+    );
+    // The replay collides: the two robots end at one point.
+    assert_eq!(run_row(&replayed)["final_diameter"], "0");
+    // Without the given duration, the same start and seed never collide.
+    let plain = dir.path().join("plain.toml");
+    std::fs::write(
+        &plain,
+        reproduce.replace("durations = \"durations.csv\"\n", ""),
+    )
+    .unwrap();
+    std::fs::copy(out.join("positions.csv"), dir.path().join("positions.csv")).unwrap();
+    let plain_out = dir.path().join("plain");
+    ok(&["run", s(&plain), "--out", s(&plain_out)]);
+    assert_ne!(run_row(&plain_out)["final_diameter"], "0");
+    // Lockstep durations alone (the run's seed searched) find nothing.
+    let lockstep = dir.path().join("lockstep");
+    ok(&[
+        "hunt",
+        s(&config),
+        "--out",
+        s(&lockstep),
+        "--quiet",
+        "--set",
+        "hunt.durations=false",
+    ]);
+    assert_eq!(field(&lockstep, "found"), "false");
+    assert_eq!(field(&lockstep, "durations_given"), "0");
+    assert!(!lockstep.join("durations.csv").exists());
+}
+
+#[test]
 fn bad_hunts_are_refused_with_the_key_and_exit_2() {
     let dir = tempfile::tempdir().unwrap();
     let base = |hunt: &str, extra: &str| {
@@ -266,8 +328,34 @@ fn bad_hunts_are_refused_with_the_key_and_exit_2() {
             ),
             "bad.csv",
         ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_grows\"\nevaluations = 9\nmax_ticks = 0",
+                &format!("{square}\n[scheduler]\nkind = \"async\""),
+            ),
+            "hunt.max_ticks: 0: a phase lasts from 1 to 2^40",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_grows\"\nevaluations = 9\nmax_ticks = 2000000000000",
+                &format!("{square}\n[scheduler]\nkind = \"async\""),
+            ),
+            "hunt.max_ticks: 2000000000000: a phase lasts from 1 to 2^40",
+        ),
+        (
+            base(
+                "[hunt]\nproperty = \"hull_grows\"\nevaluations = 9\nn_min = 3\nn_max = 6",
+                &format!("{square}\n[scheduler]\nkind = \"async\"\ndurations = \"d.csv\""),
+            ),
+            "hunt.n_min: 3: scheduler.durations gives robot 3 a duration, so the hunt needs at least 4 robots",
+        ),
     ];
     std::fs::write(dir.path().join("bad.csv"), "x,y\n0,0\n1,zz\n").unwrap();
+    std::fs::write(
+        dir.path().join("d.csv"),
+        "robot,cycle,phase,ticks\n3,1,move,9\n",
+    )
+    .unwrap();
     for (text, needle) in cases {
         let config = write_config(dir.path(), &text);
         let e = fails(&[

@@ -152,7 +152,8 @@ def hunt(
     ``positions``, the counterexample's start as an ``(n, dim)`` array (``None`` if no
     run completed), and ``out``, the folder written (``None`` without ``out``: then a
     temporary folder is used and removed). The folder holds ``positions.csv``,
-    ``schedule.csv`` (when the schedule matters), ``reproduce.toml`` (replay it with
+    ``schedule.csv`` (when the schedule matters), ``durations.csv`` (when ASYNC
+    phase durations are given), ``reproduce.toml`` (replay it with
     :func:`run`), ``replay.html`` and ``summary.json``. Algorithms declared with
     :func:`algorithm` can be hunted. Ctrl-C stops the hunt, keeping its best candidate
     in ``out`` marked as not shrunk, and raises ``KeyboardInterrupt``.

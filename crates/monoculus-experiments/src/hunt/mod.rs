@@ -48,14 +48,19 @@ use std::sync::atomic::AtomicBool;
 
 pub use write::{FILES, FolderWriter, HtmlWriter, summary_json, write_found};
 
+use monoculus_engine::asynchrony::{Durations, GivenDuration, Phase};
+use monoculus_engine::{AsyncSpec, TickDist};
+
 use crate::config::{HuntSpec, Property, SchedulerKind};
 use crate::{Cell, ConfigError, Experiment};
+use monoculus_engine::asynchrony::MAX_PHASE_TICKS;
 
 /// The largest swarm whose SSYNC activation subsets are searched (one bit per robot).
 pub const MAX_SUBSET_ROBOTS: usize = 64;
 
-/// One point of the search: a start, the run's seed and (SSYNC with subsets searched, or
-/// a schedule file) the robots activated in each round.
+/// One point of the search: a start, the run's seed, (SSYNC with subsets searched, or a
+/// schedule file) the robots activated in each round and (ASYNC) the phase durations
+/// given in place of draws.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Candidate {
     /// The start: one row per robot (x, y, z; z = 0 in the plane).
@@ -65,6 +70,9 @@ pub struct Candidate {
     /// Round k + 1's activated robots as a bit set (bit i: robot i), when the schedule is
     /// part of the candidate.
     pub schedule: Option<Vec<u64>>,
+    /// ASYNC: phase durations given in place of draws (searched, or the config's
+    /// `scheduler.durations`), by robot, cycle and phase, each phase once.
+    pub durations: Vec<GivenDuration>,
 }
 
 impl Candidate {
@@ -96,6 +104,8 @@ pub struct Evaluation {
     pub epochs: u64,
     /// Whether the run converged.
     pub converged: bool,
+    /// Looks made by all the robots.
+    pub activations: u64,
     /// Why the run failed (the algorithm panicked or returned a bad direction), if it did.
     pub failure: Option<String>,
 }
@@ -179,6 +189,10 @@ pub struct Hunt {
     pub perturb: f64,
     /// Whether SSYNC activation subsets are part of each candidate.
     pub subsets: bool,
+    /// Whether ASYNC phase durations are searched.
+    pub durations: bool,
+    /// The longest duration the search gives a phase, ticks.
+    pub max_ticks: u64,
     /// The rounds (epochs) of each run: `stop.max_rounds`.
     pub max_rounds: u64,
 }
@@ -369,6 +383,58 @@ impl Hunt {
                 ),
             ));
         }
+        if let Some(given) = &cell.durations
+            && let Some(max) = given.max_robot()
+            && max as usize >= n_min
+        {
+            return Err(err(
+                "hunt.n_min",
+                format!(
+                    "{n_min}: scheduler.durations gives robot {max} a duration, so the hunt needs at least {} robots",
+                    max + 1
+                ),
+            ));
+        }
+        let durations = spec.durations && kind == SchedulerKind::Async;
+        let sc = &cell.spec.scheduler;
+        let typical = [sc.idle, sc.compute, sc.motion]
+            .iter()
+            .map(|d| match *d {
+                TickDist::Fixed { ticks } => ticks as f64,
+                TickDist::Uniform { max, .. } => max as f64,
+                TickDist::Exponential { mean } => mean.ceil(),
+            })
+            .fold(1.0, f64::max);
+        let max_ticks = spec
+            .max_ticks
+            .unwrap_or((10.0 * typical).min(MAX_PHASE_TICKS as f64) as u64);
+        if durations {
+            if !(1..=MAX_PHASE_TICKS).contains(&max_ticks) {
+                return Err(err(
+                    "hunt.max_ticks",
+                    format!("{max_ticks}: a phase lasts from 1 to 2^40 = {MAX_PHASE_TICKS} ticks"),
+                ));
+            }
+            let longest = |phase| GivenDuration {
+                robot: 0,
+                cycle: 1,
+                phase,
+                ticks: max_ticks,
+            };
+            let widest = AsyncSpec {
+                durations: Durations::new([
+                    longest(Phase::Idle),
+                    longest(Phase::Compute),
+                    longest(Phase::Move),
+                ])
+                .ok()
+                .map(Arc::new),
+                ..AsyncSpec::default()
+            };
+            if let Err((_, m)) = widest.check(cell.spec.stop.max_rounds) {
+                return Err(err("hunt.max_ticks", format!("{max_ticks}: {m}")));
+            }
+        }
         Ok(Hunt {
             cell: cell.clone(),
             spec,
@@ -376,6 +442,8 @@ impl Hunt {
             n_max,
             perturb,
             subsets,
+            durations,
+            max_ticks,
             max_rounds: cell.spec.stop.max_rounds,
         })
     }
@@ -485,7 +553,7 @@ mod tests {
     }
 
     #[test]
-    fn leaving_a_robot_out_renumbers_the_schedule_and_keeps_every_round_busy() {
+    fn leaving_a_robot_out_renumbers_the_schedule_and_durations_and_keeps_every_round_busy() {
         let h = hunt(
             "[scheduler]\nkind = \"ssync\"\n[hunt]\nproperty = \"hull_grows\"\nn_min = 2\nn_max = 4\nevaluations = 9",
         );
@@ -494,6 +562,14 @@ mod tests {
             points: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
             seed: 3,
             schedule: Some(vec![0b1011, 0b0010, 0b1100]),
+            durations: [(0, Phase::Move), (1, Phase::Idle), (3, Phase::Compute)]
+                .map(|(robot, phase)| GivenDuration {
+                    robot,
+                    cycle: 2,
+                    phase,
+                    ticks: 5,
+                })
+                .to_vec(),
         };
         let mut rng = monoculus_core::rng::Stream::new(0, 0, 0, 0);
         let d = h.without_robot(&c, 1, &mut rng);
@@ -507,5 +583,8 @@ mod tests {
         assert!(s[1] < 0b1000);
         assert_eq!(s[2], 0b110);
         assert_eq!(activation_list(&s).round(3), &[1, 2]);
+        // Its given durations go with it, and robot 3's become robot 2's.
+        let robots: Vec<(u32, Phase)> = d.durations.iter().map(|g| (g.robot, g.phase)).collect();
+        assert_eq!(robots, [(0, Phase::Move), (2, Phase::Compute)]);
     }
 }

@@ -8,7 +8,7 @@ use glam::{DVec2, DVec3};
 use monoculus_core::geometry::Point;
 use monoculus_core::rng::Stream;
 use monoculus_engine::systems::hull_grew;
-use monoculus_engine::{IndexPoint, SchedulerSpec, Simulation};
+use monoculus_engine::{AsyncStart, IndexPoint, SchedulerSpec, Simulation};
 use rayon::prelude::*;
 
 use super::*;
@@ -63,19 +63,29 @@ impl Hunt {
                 .as_ref()
                 .map(|list| masks_of(list, list.rounds()))
         };
+        let durations = self.cell.durations.as_ref().map_or(Vec::new(), |d| {
+            d.iter().filter(|g| (g.robot as usize) < n).collect()
+        });
         Candidate {
             points,
             seed,
             schedule,
+            durations,
         }
     }
 
-    /// One local move from `c` (whose run took `rounds` rounds): a robot moved (or all of
-    /// them a little), added or removed, the run's seed drawn again, or (subsets searched)
-    /// activations flipped in the rounds the run reached.
-    pub(super) fn mutate(&self, c: &Candidate, rounds: u64, rng: &mut Stream) -> Candidate {
+    /// One local move from `c` (whose run was `run`): a robot moved (or all of them a
+    /// little), added or removed, the run's seed drawn again, (subsets searched)
+    /// activations flipped in the rounds the run reached, or (durations searched) one
+    /// phase duration given, changed or taken back.
+    pub(super) fn mutate(&self, c: &Candidate, run: &Evaluation, rng: &mut Stream) -> Candidate {
         let mut c = c.clone();
         let n = c.len();
+        let rounds = run.rounds;
+        if self.durations && rng.uniform() < 0.3 {
+            self.mutate_durations(&mut c, run, rng);
+            return c;
+        }
         let dim = self.cell.dim();
         let scale = self.perturb * 10f64.powf(-2.0 * rng.uniform());
         if self.subsets && rng.uniform() < 0.3 {
@@ -137,11 +147,62 @@ impl Hunt {
         c
     }
 
-    /// `c` without robot `i` (its schedule's robots above i renumbered; a searched
-    /// round left with nobody gets a robot drawn from `rng`).
+    /// One move of `c`'s given durations: one taken back, one made longer or shorter
+    /// (by a factor of 2), or a phase of a robot's cycle that `run` reached given a
+    /// length drawn log-uniformly from 1 to `max_ticks`.
+    fn mutate_durations(&self, c: &mut Candidate, run: &Evaluation, rng: &mut Stream) {
+        let given = c.durations.len();
+        let r = rng.uniform();
+        if given > 0 && r < 0.2 {
+            c.durations.remove(rng.below(given));
+            return;
+        }
+        if given > 0 && r < 0.45 {
+            let g = &mut c.durations[rng.below(given)];
+            let t = if rng.bernoulli(0.5) {
+                g.ticks.saturating_mul(2)
+            } else {
+                g.ticks / 2
+            };
+            g.ticks = t.clamp(1, self.max_ticks);
+            return;
+        }
+        let n = c.len().max(1);
+        // A robot's share of the Looks, twice over: some robots cycle faster.
+        let reached = (2 * run.activations / n as u64 + 1) as usize;
+        let robot = rng.below(n) as u32;
+        let cycle = rng.below(reached.max(1)) as u64;
+        let starts_idle = self.cell.spec.scheduler.start == AsyncStart::Random;
+        let phases: &[Phase] = if cycle > 0 || starts_idle {
+            &[Phase::Idle, Phase::Compute, Phase::Move]
+        } else {
+            &[Phase::Compute, Phase::Move]
+        };
+        let phase = phases[rng.below(phases.len())];
+        let ticks = ((self.max_ticks as f64).ln() * rng.uniform()).exp().round() as u64;
+        give(
+            &mut c.durations,
+            GivenDuration {
+                robot,
+                cycle,
+                phase,
+                ticks: ticks.clamp(1, self.max_ticks),
+            },
+        );
+    }
+
+    /// `c` without robot `i` (its schedule's and durations' robots above i renumbered; a
+    /// searched round left with nobody gets a robot drawn from `rng`).
     pub(super) fn without_robot(&self, c: &Candidate, i: usize, rng: &mut Stream) -> Candidate {
         let mut c = c.clone();
         c.points.remove(i);
+        let i32 = i as u32;
+        c.durations.retain(|g| g.robot != i32);
+        for g in &mut c.durations {
+            if g.robot > i32 {
+                g.robot -= 1;
+            }
+        }
         let n = c.len();
         if let Some(s) = c.schedule.as_mut() {
             for m in s.iter_mut() {
@@ -170,6 +231,9 @@ impl Hunt {
         if let Some(rounds) = &c.schedule {
             config.scheduler = SchedulerSpec::File(Arc::new(activation_list(rounds)));
         }
+        if let SchedulerSpec::Async(spec) = &mut config.scheduler {
+            spec.durations = durations_of(&c.durations);
+        }
         let eps_pos = config.vision.eps_pos;
         let points: Vec<P> = c.points.iter().map(|r| P::from_slice(r)).collect();
         let invalid = Evaluation {
@@ -179,6 +243,7 @@ impl Hunt {
             rounds: 0,
             epochs: 0,
             converged: false,
+            activations: 0,
             failure: None,
         };
         let min0 = min_distance(&points);
@@ -266,9 +331,35 @@ impl Hunt {
             rounds: outcome.rounds,
             epochs,
             converged: outcome.converged,
+            activations: outcome.activations,
             failure: None,
         }
     }
+}
+
+/// The key a given duration is sorted and found by.
+fn key(g: &GivenDuration) -> (u32, u64, u8) {
+    let phase = match g.phase {
+        Phase::Idle => 0,
+        Phase::Compute => 1,
+        Phase::Move => 2,
+    };
+    (g.robot, g.cycle, phase)
+}
+
+/// Gives `g` in `durations` (sorted by key): in place of the same phase's, or inserted.
+pub(super) fn give(durations: &mut Vec<GivenDuration>, g: GivenDuration) {
+    match durations.binary_search_by_key(&key(&g), key) {
+        Ok(i) => durations[i] = g,
+        Err(i) => durations.insert(i, g),
+    }
+}
+
+/// The engine's durations of a candidate (`None` when none is given).
+pub(super) fn durations_of(given: &[GivenDuration]) -> Option<Arc<Durations>> {
+    (!given.is_empty()).then(|| {
+        Arc::new(Durations::new(given.iter().copied()).expect("each phase once, in range"))
+    })
 }
 
 /// Rows (x, y, z) of points.
@@ -432,7 +523,7 @@ impl<'a> State<'a> {
                     let mut rng = Stream::new(spec.seed, HUNT_STREAM, i as u64, g);
                     match &chains[i] {
                         Some(ch) if ch.stale < spec.restart => {
-                            hunt.mutate(&ch.candidate, ch.evaluation.rounds, &mut rng)
+                            hunt.mutate(&ch.candidate, &ch.evaluation, &mut rng)
                         }
                         _ => hunt.random_start(i == 0 && g == 0, &mut rng),
                     }

@@ -1,6 +1,7 @@
 //! Shrinking a counterexample: fewer robots, coordinates on a coarse grid (whole numbers,
-//! then halves, then quarters) near the origin, seed 0, and a schedule of the rounds up
-//! to the violation with fewer activations, for as long as the property still breaks.
+//! then halves, then quarters) near the origin, seed 0, a schedule of the rounds up to
+//! the violation with fewer activations, and fewer given ASYNC durations, for as long as
+//! the property still breaks.
 
 use monoculus_core::rng::Stream;
 
@@ -94,6 +95,27 @@ pub(super) fn shrink(state: &mut State<'_>, found: Found) -> Found {
                         .map(|r| {
                             let mut c = cur.candidate.clone();
                             c.schedule.as_mut().expect("subsets")[k] &= !(1u64 << r);
+                            c
+                        })
+                        .collect();
+                    if !take_first(state, &mut cur, variants) {
+                        break;
+                    }
+                }
+            }
+        }
+        // Fewer given durations: all of them taken back, else each in turn.
+        if !cur.candidate.durations.is_empty() {
+            let none = Candidate {
+                durations: Vec::new(),
+                ..cur.candidate.clone()
+            };
+            if !take_first(state, &mut cur, vec![none]) {
+                loop {
+                    let variants: Vec<Candidate> = (0..cur.candidate.durations.len())
+                        .map(|k| {
+                            let mut c = cur.candidate.clone();
+                            c.durations.remove(k);
                             c
                         })
                         .collect();

@@ -1,5 +1,6 @@
 //! A hunt's folder: positions.csv, schedule.csv (when the schedule matters),
-//! reproduce.toml, replay.html and summary.json, each written whole or not at all.
+//! durations.csv (when ASYNC durations are given), reproduce.toml, replay.html and
+//! summary.json, each written whole or not at all.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -15,17 +16,19 @@ use crate::results::num;
 pub type HtmlWriter<'a> = dyn Fn(&Replay, &Path) -> Result<(), String> + Sync + 'a;
 
 /// The files of a hunt's folder.
-pub const FILES: [&str; 5] = [
+pub const FILES: [&str; 6] = [
     "positions.csv",
     "schedule.csv",
+    "durations.csv",
     "reproduce.toml",
     "replay.html",
     "summary.json",
 ];
 
 /// Writes `report` into `dir`: summary.json always; with a best candidate also its
-/// positions, schedule (when it matters), the config that replays it and (given `html`)
-/// its replay page. Files of an earlier best that this one has not (a schedule) are
+/// positions, schedule (when it matters), given durations (if any), the config that
+/// replays it and (given `html`) its replay page. Files of an earlier best that this one
+/// has not (a schedule, durations) are
 /// removed, so that the folder describes one candidate; a signal (with
 /// [`crate::output::remove_temporaries_on_signal`]) waits until the folder is whole.
 pub fn write_found(
@@ -64,6 +67,16 @@ pub fn write_found(
             }
             None => {
                 let _ = std::fs::remove_file(&schedule_path);
+            }
+        }
+        let durations_path = dir.join("durations.csv");
+        match super::search::durations_of(&c.durations) {
+            Some(given) => {
+                let text = crate::durations::durations_csv(&given);
+                write_atomic(&durations_path, text.as_bytes()).map_err(io)?;
+            }
+            None => {
+                let _ = std::fs::remove_file(&durations_path);
             }
         }
         let reproduce = dir.join("reproduce.toml");
@@ -139,8 +152,8 @@ fn shows(hunt: &Hunt, best: &Found) -> String {
 }
 
 /// The config that replays a candidate with `monoculus run`: its positions from
-/// positions.csv, its seed, its schedule from schedule.csv when it matters, and for a
-/// violation found in round k, k rounds.
+/// positions.csv, its seed, its schedule from schedule.csv when it matters, its given
+/// durations from durations.csv, and for a violation found in round k, k rounds.
 fn reproduce_toml(hunt: &Hunt, best: &Found) -> String {
     let c = &best.candidate;
     let mut spec: RunSpec = hunt.cell.spec.clone();
@@ -153,6 +166,7 @@ fn reproduce_toml(hunt: &Hunt, best: &Found) -> String {
         spec.scheduler.kind = SchedulerKind::File;
         spec.scheduler.file = Some("schedule.csv".into());
     }
+    spec.scheduler.durations = (!c.durations.is_empty()).then(|| "durations.csv".into());
     let e = &best.evaluation;
     if e.violated
         && matches!(
@@ -208,6 +222,11 @@ pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
             json::string(hunt.cell.sim_config(0).scheduler.name()),
         ),
         ("subsets_searched", hunt.subsets.to_string()),
+        ("durations_searched", hunt.durations.to_string()),
+        (
+            "durations_given",
+            best.map_or("null".into(), |b| b.candidate.durations.len().to_string()),
+        ),
         ("n_min", hunt.n_min.to_string()),
         ("n_max", hunt.n_max.to_string()),
         ("max_rounds", hunt.max_rounds.to_string()),
