@@ -26,13 +26,8 @@ impl DurationsFile {
     /// Why the durations cannot apply to a run of `n` robots whose robots start
     /// together (`together`) or at random, if they cannot: `file:line: ...`.
     pub fn check(&self, n: usize, together: bool, name: &str) -> Result<(), String> {
+        crate::schedule::within_swarm(self.max_robot, n, name)?;
         let name = crate::one_line(name);
-        let (robot, line) = self.max_robot;
-        if robot as usize >= n {
-            return Err(format!(
-                "{name}:{line}: robot {robot}, but the swarm has {n} robots (numbered from 0)"
-            ));
-        }
         if let (true, Some((robot, line))) = (together, self.start_row) {
             return Err(format!(
                 "{name}:{line}: robot {robot}'s cycle 0 has no idle phase: with scheduler.start = \"together\" every robot Looks at tick 0 (give cycle 0 an idle phase only with start = \"random\")"
@@ -74,19 +69,7 @@ pub fn parse_durations(text: &str, name: &str) -> Result<DurationsFile, Position
     for row in csv.rows() {
         let (line, record) = row?;
         let field = |i: usize| record.get(i).unwrap_or("").trim().to_string();
-        let robot: u32 = field(ri)
-            .parse()
-            .ok()
-            .filter(|&r| (r as usize) < monoculus_engine::MAX_ROBOTS)
-            .ok_or_else(|| {
-                perr(
-                    line,
-                    format!(
-                        "column robot: `{}` is not a robot index (0, 1, ...)",
-                        field(ri)
-                    ),
-                )
-            })?;
+        let robot = crate::schedule::robot_field(&field(ri), name, line)?;
         let cycle: u64 = field(ci).parse().map_err(|_| {
             perr(
                 line,

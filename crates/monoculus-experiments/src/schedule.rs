@@ -21,15 +21,39 @@ pub struct ScheduleFile {
 impl ScheduleFile {
     /// Why the schedule cannot run on `n` robots, if it cannot: `file:line: ...`.
     pub fn check_robots(&self, n: usize, name: &str) -> Result<(), String> {
-        let (robot, line) = self.max_robot;
-        if robot as usize >= n {
-            return Err(format!(
-                "{}:{line}: robot {robot}, but the swarm has {n} robots (numbered from 0)",
-                crate::one_line(name)
-            ));
-        }
-        Ok(())
+        within_swarm(self.max_robot, n, name)
     }
+}
+
+/// Why a file whose largest robot is `robot` (first on `line`) cannot run on `n` robots,
+/// if it cannot: `file:line: ...`.
+pub(crate) fn within_swarm(
+    (robot, line): (u32, usize),
+    n: usize,
+    name: &str,
+) -> Result<(), String> {
+    if robot as usize >= n {
+        return Err(format!(
+            "{}:{line}: robot {robot}, but the swarm has {n} robots (numbered from 0)",
+            crate::one_line(name)
+        ));
+    }
+    Ok(())
+}
+
+/// The robot index of a CSV field (0-based, below [`monoculus_engine::MAX_ROBOTS`]), or
+/// the message for row `line` of `name`.
+pub(crate) fn robot_field(text: &str, name: &str, line: usize) -> Result<u32, PositionsError> {
+    text.parse()
+        .ok()
+        .filter(|&r: &u32| (r as usize) < monoculus_engine::MAX_ROBOTS)
+        .ok_or_else(|| {
+            parse_error(
+                name,
+                line,
+                format!("column robot: `{text}` is not a robot index (0, 1, ...)"),
+            )
+        })
 }
 
 /// Reads a schedule CSV (columns `round` and `robot`, in any order, and no others).
@@ -61,19 +85,7 @@ pub fn parse_schedule(text: &str, name: &str) -> Result<ScheduleFile, PositionsE
                 ),
             )
         })?;
-        let robot: u32 = field(bi)
-            .parse()
-            .ok()
-            .filter(|&r| (r as usize) < monoculus_engine::MAX_ROBOTS)
-            .ok_or_else(|| {
-                perr(
-                    line,
-                    format!(
-                        "column robot: `{}` is not a robot index (0, 1, ...)",
-                        field(bi)
-                    ),
-                )
-            })?;
+        let robot = robot_field(field(bi), name, line)?;
         let problem = match rounds.last_mut() {
             _ if round == 0 => Some(ActivationError::RoundZero),
             Some((last, _)) if *last == round && !in_round.insert(robot) => {
