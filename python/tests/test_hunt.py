@@ -30,6 +30,18 @@ def test_the_same_as_the_command_line(root, cli, tmp_path):
     assert bool(runs["hull_grew"][0])
 
 
+def test_an_async_counterexample_keeps_its_durations(root, tmp_path):
+    config = root / "configs" / "hunt" / "stale_view.toml"
+    found = monoculus.hunt(config, out=tmp_path / "h")
+    assert found["found"] and found["durations_searched"]
+    assert found["durations_given"] == 1
+    assert (tmp_path / "h" / "durations.csv").read_text().startswith(
+        "robot,cycle,phase,ticks\n"
+    )
+    runs = monoculus.run(tmp_path / "h" / "reproduce.toml")
+    assert float(runs["final_diameter"][0]) == 0.0
+
+
 def test_a_python_algorithm_is_hunted():
     # Move toward the first direction seen: a directions-only rule, which the
     # impossibility result says grows the hull from some start.
