@@ -63,7 +63,7 @@ pub fn parse_durations(text: &str, name: &str) -> Result<DurationsFile, Position
     let [ri, ci, pi, ti] = csv.columns(["robot", "cycle", "phase", "ticks"])?;
     let perr = |line: usize, message: String| parse_error(name, line, message);
     let mut given = Vec::new();
-    let mut lines: HashMap<(u32, u64, &'static str), usize> = HashMap::new();
+    let mut lines: HashMap<(u32, u64, Phase), usize> = HashMap::new();
     let mut max_robot: Option<(u32, usize)> = None;
     let mut start_row = None;
     for row in csv.rows() {
@@ -103,7 +103,7 @@ pub fn parse_durations(text: &str, name: &str) -> Result<DurationsFile, Position
                     ),
                 )
             })?;
-        if let Some(first) = lines.insert((robot, cycle, phase_name(phase)), line) {
+        if let Some(first) = lines.insert((robot, cycle, phase), line) {
             return Err(perr(
                 line,
                 format!(

@@ -7,8 +7,8 @@ use bevy_ecs::prelude::*;
 use crate::IndexPoint;
 
 /// Where a robot is in its cycle. The Look is instantaneous: it happens at the tick
-/// the Idle phase ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// the Idle phase ends. Phases order as a cycle runs them: Idle, Compute, Move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Phase {
     /// Waiting; Looks when the phase ends.
     Idle,

@@ -29,6 +29,14 @@ pub struct GivenDuration {
     pub ticks: u64,
 }
 
+impl GivenDuration {
+    /// Which phase it gives, `(robot, cycle, phase)`: what [`Durations`] sorts and finds
+    /// given durations by.
+    pub fn key(&self) -> (u32, u64, Phase) {
+        (self.robot, self.cycle, self.phase)
+    }
+}
+
 /// Why given durations do not make a [`Durations`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DurationsError {
@@ -97,24 +105,8 @@ pub fn phase_name(phase: Phase) -> &'static str {
 /// ```
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Durations {
-    /// Sorted by (robot, cycle, phase), each key once.
-    given: Vec<((u32, u64, u8), u64)>,
-}
-
-fn rank(phase: Phase) -> u8 {
-    match phase {
-        Phase::Idle => 0,
-        Phase::Compute => 1,
-        Phase::Move => 2,
-    }
-}
-
-fn unrank(r: u8) -> Phase {
-    match r {
-        0 => Phase::Idle,
-        1 => Phase::Compute,
-        _ => Phase::Move,
-    }
+    /// Sorted by [`GivenDuration::key`], each key once.
+    given: Vec<GivenDuration>,
 }
 
 impl Durations {
@@ -123,20 +115,17 @@ impl Durations {
     pub fn new(
         given: impl IntoIterator<Item = GivenDuration>,
     ) -> Result<Durations, DurationsError> {
-        let mut v: Vec<((u32, u64, u8), u64)> = Vec::new();
-        for g in given {
-            if g.ticks == 0 || g.ticks > MAX_PHASE_TICKS {
-                return Err(DurationsError::Ticks(g.ticks));
-            }
-            v.push(((g.robot, g.cycle, rank(g.phase)), g.ticks));
+        let mut v: Vec<GivenDuration> = given.into_iter().collect();
+        if let Some(g) = v.iter().find(|g| g.ticks == 0 || g.ticks > MAX_PHASE_TICKS) {
+            return Err(DurationsError::Ticks(g.ticks));
         }
-        v.sort_unstable();
-        if let Some(w) = v.windows(2).find(|w| w[0].0 == w[1].0) {
-            let (robot, cycle, phase) = w[0].0;
+        v.sort_unstable_by_key(GivenDuration::key);
+        if let Some(w) = v.windows(2).find(|w| w[0].key() == w[1].key()) {
+            let (robot, cycle, phase) = w[0].key();
             return Err(DurationsError::Twice {
                 robot,
                 cycle,
-                phase: unrank(phase),
+                phase,
             });
         }
         Ok(Durations { given: v })
@@ -144,23 +133,15 @@ impl Durations {
 
     /// The length given to phase `phase` of robot `robot`'s cycle `cycle`, if any.
     pub fn get(&self, robot: u32, cycle: u64, phase: Phase) -> Option<u64> {
-        let key = (robot, cycle, rank(phase));
         self.given
-            .binary_search_by(|(k, _)| k.cmp(&key))
+            .binary_search_by_key(&(robot, cycle, phase), GivenDuration::key)
             .ok()
-            .map(|i| self.given[i].1)
+            .map(|i| self.given[i].ticks)
     }
 
     /// Every given duration, by robot, cycle and phase.
     pub fn iter(&self) -> impl Iterator<Item = GivenDuration> + '_ {
-        self.given
-            .iter()
-            .map(|&((robot, cycle, phase), ticks)| GivenDuration {
-                robot,
-                cycle,
-                phase: unrank(phase),
-                ticks,
-            })
+        self.given.iter().copied()
     }
 
     /// How many durations are given.
@@ -175,16 +156,15 @@ impl Durations {
 
     /// The largest robot index given, if any.
     pub fn max_robot(&self) -> Option<u32> {
-        self.given.last().map(|((r, _, _), _)| *r)
+        self.given.last().map(|g| g.robot)
     }
 
     /// The longest duration given for `phase`, ticks (0 when none is).
     pub fn longest(&self, phase: Phase) -> u64 {
-        let r = rank(phase);
         self.given
             .iter()
-            .filter(|((_, _, p), _)| *p == r)
-            .map(|(_, t)| *t)
+            .filter(|g| g.phase == phase)
+            .map(|g| g.ticks)
             .max()
             .unwrap_or(0)
     }
@@ -194,8 +174,8 @@ impl Durations {
     pub fn first_start(&self) -> Option<u32> {
         self.given
             .iter()
-            .find(|((_, c, p), _)| *c == 0 && *p == 0)
-            .map(|((r, _, _), _)| *r)
+            .find(|g| g.cycle == 0 && g.phase == Phase::Idle)
+            .map(|g| g.robot)
     }
 }
 

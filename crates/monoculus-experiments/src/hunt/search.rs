@@ -337,19 +337,9 @@ impl Hunt {
     }
 }
 
-/// The key a given duration is sorted and found by.
-fn key(g: &GivenDuration) -> (u32, u64, u8) {
-    let phase = match g.phase {
-        Phase::Idle => 0,
-        Phase::Compute => 1,
-        Phase::Move => 2,
-    };
-    (g.robot, g.cycle, phase)
-}
-
 /// Gives `g` in `durations` (sorted by key): in place of the same phase's, or inserted.
 pub(super) fn give(durations: &mut Vec<GivenDuration>, g: GivenDuration) {
-    match durations.binary_search_by_key(&key(&g), key) {
+    match durations.binary_search_by_key(&g.key(), GivenDuration::key) {
         Ok(i) => durations[i] = g,
         Err(i) => durations.insert(i, g),
     }
