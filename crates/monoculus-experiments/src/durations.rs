@@ -25,6 +25,15 @@ pub struct DurationsFile {
 impl DurationsFile {
     /// Why the durations cannot apply to a run of `n` robots whose robots start
     /// together (`together`) or at random, if they cannot: `file:line: ...`.
+    ///
+    /// ```
+    /// use monoculus_experiments::durations::parse_durations;
+    ///
+    /// let f = parse_durations("robot,cycle,phase,ticks\n4,0,idle,2\n", "d.csv").unwrap();
+    /// assert!(f.check(5, false, "d.csv").is_ok());
+    /// assert!(f.check(4, false, "d.csv").unwrap_err().starts_with("d.csv:2: robot 4"));
+    /// assert!(f.check(5, true, "d.csv").is_err()); // no idle phase in cycle 0
+    /// ```
     pub fn check(&self, n: usize, together: bool, name: &str) -> Result<(), String> {
         crate::schedule::within_swarm(self.max_robot, n, name)?;
         let name = crate::one_line(name);
@@ -138,6 +147,17 @@ pub fn parse_durations(text: &str, name: &str) -> Result<DurationsFile, Position
 
 /// The CSV of `durations` (header `robot,cycle,phase,ticks`, by robot, cycle and phase):
 /// what [`parse_durations`] reads back.
+///
+/// ```
+/// use monoculus_experiments::durations::{durations_csv, parse_durations};
+///
+/// let text = "robot,cycle,phase,ticks\n2,0,move,9\n0,1,idle,3\n";
+/// let read = parse_durations(text, "d.csv").unwrap();
+/// assert_eq!(
+///     durations_csv(&read.durations),
+///     "robot,cycle,phase,ticks\n0,1,idle,3\n2,0,move,9\n"
+/// );
+/// ```
 pub fn durations_csv(durations: &Durations) -> String {
     let mut out = String::from("robot,cycle,phase,ticks\n");
     for g in durations.iter() {

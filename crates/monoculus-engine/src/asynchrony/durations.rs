@@ -32,6 +32,14 @@ pub struct GivenDuration {
 impl GivenDuration {
     /// Which phase it gives, `(robot, cycle, phase)`: what [`Durations`] sorts and finds
     /// given durations by.
+    ///
+    /// ```
+    /// use monoculus_engine::asynchrony::{GivenDuration, Phase};
+    ///
+    /// let g = GivenDuration { robot: 1, cycle: 4, phase: Phase::Idle, ticks: 3 };
+    /// assert_eq!(g.key(), (1, 4, Phase::Idle));
+    /// assert!(Phase::Idle < Phase::Compute && Phase::Compute < Phase::Move);
+    /// ```
     pub fn key(&self) -> (u32, u64, Phase) {
         (self.robot, self.cycle, self.phase)
     }
@@ -76,6 +84,12 @@ impl std::fmt::Display for DurationsError {
 impl std::error::Error for DurationsError {}
 
 /// The config name of a phase (`idle`, `compute`, `move`).
+///
+/// ```
+/// use monoculus_engine::asynchrony::{Phase, phase_name};
+///
+/// assert_eq!(phase_name(Phase::Move), "move");
+/// ```
 pub fn phase_name(phase: Phase) -> &'static str {
     match phase {
         Phase::Idle => "idle",
