@@ -127,7 +127,11 @@ fn progress_lines_report_each_run_without_changing_results() {
     // One closing line per run with its rounds, and lines while the runs went.
     let ends: Vec<&str> = stderr
         .lines()
-        .filter(|l| l.ends_with("(converged)") || l.ends_with("(stopped)"))
+        .filter(|l| {
+            ["(converged)", "(stuck)", "(stopped)"]
+                .iter()
+                .any(|e| l.ends_with(e))
+        })
         .collect();
     assert_eq!(ends.len(), 16, "{stderr}");
     let rows = csv_rows_without(&b.join("runs.csv"), &[]);

@@ -13,8 +13,8 @@ pub mod vision;
 /// The most used items.
 pub mod prelude {
     pub use crate::algorithms::{
-        Algorithm, AlgorithmKind, Decision, Directions, Ld, ModelParams, NoParams, Observation,
-        Ola, Positions, StopCriterion, TargetPolicy, activate,
+        Algorithm, AlgorithmKind, Decision, Directions, Goal, Ld, ModelParams, NoParams,
+        Observation, Ola, Positions, StopCriterion, TargetPolicy, activate,
     };
     pub use crate::geometry::{AxisFrame, HullGeometry, Point};
     pub use crate::observe::{Seen, Side};

@@ -16,7 +16,7 @@ use bevy_ecs::prelude::*;
 use glam::{DVec2, DVec3};
 use monoculus_core::algorithms::{
     Algorithm, AlgorithmKind, AngleBisector, CenterOfGravity, ConvergeLocality, ConvergeQuadrant,
-    ConvergeQuadrantTermination, Median, Model, Sensing, StopCriterion,
+    ConvergeQuadrantTermination, Goal, Median, Model, Sensing, StopCriterion,
 };
 
 use crate::IndexPoint;
@@ -55,12 +55,13 @@ impl<P: IndexPoint, A: Algorithm> Install<P> for Held<A> {
 /// algorithms, [`AlgorithmKind`]). Cloning it is cheap.
 ///
 /// ```
-/// use monoculus_core::algorithms::{AlgorithmKind, ConvergeLocality, Model, StopCriterion};
+/// use monoculus_core::algorithms::{AlgorithmKind, ConvergeLocality, Goal, Model, StopCriterion};
 /// use monoculus_engine::AlgorithmBox;
 ///
 /// let a = AlgorithmBox::new(ConvergeLocality);
 /// assert_eq!((a.name(), a.model()), ("converge_locality", Model::Ld));
 /// assert_eq!(a.default_stop(), StopCriterion::QuiescentOrDiameter);
+/// assert_eq!(a.goal(), Goal::Disc);
 /// assert_eq!(AlgorithmBox::from(AlgorithmKind::ConvergeLocality).name(), a.name());
 /// ```
 ///
@@ -72,10 +73,12 @@ pub struct AlgorithmBox {
     name: Arc<str>,
     model: Model,
     stop: StopCriterion,
+    goal: Goal,
     assumes_c_at_least_2b: bool,
     plane_only: Option<&'static str>,
     keeps_state: bool,
     shows_bits: bool,
+    lights: Arc<[String]>,
 }
 
 impl AlgorithmBox {
@@ -83,17 +86,21 @@ impl AlgorithmBox {
     pub fn new<A: Algorithm>(algorithm: A) -> Self {
         let name: Arc<str> = algorithm.name().into();
         let keeps_state = algorithm.keeps_state();
+        let (stop, goal) = (algorithm.stop(), algorithm.goal());
+        let lights: Arc<[String]> = algorithm.light_names().map(String::from).collect();
         let held = Arc::new(Held(Arc::new(algorithm)));
         AlgorithmBox {
             plane: held.clone(),
             space: held,
             name,
             model: <A::Sensing as Sensing>::MODEL,
-            stop: A::STOP,
+            stop,
+            goal,
             assumes_c_at_least_2b: A::ASSUMES_C_AT_LEAST_2B,
             plane_only: A::PLANE_ONLY,
             keeps_state,
             shows_bits: A::shown_bits(&A::State::default()).is_some(),
+            lights,
         }
     }
 
@@ -107,9 +114,14 @@ impl AlgorithmBox {
         self.model
     }
 
-    /// Its default stop criterion ([`Algorithm::STOP`]).
+    /// Its default stop criterion ([`Algorithm::stop`]).
     pub fn default_stop(&self) -> StopCriterion {
         self.stop
+    }
+
+    /// Its goal ([`Algorithm::goal`]): what its convergence means.
+    pub fn goal(&self) -> Goal {
+        self.goal
     }
 
     /// Whether its guarantees assume c >= 2b ([`Algorithm::ASSUMES_C_AT_LEAST_2B`]).
@@ -125,6 +137,12 @@ impl AlgorithmBox {
     /// Whether its robots keep a state (and their frame) between activations.
     pub fn keeps_state(&self) -> bool {
         self.keeps_state
+    }
+
+    /// The names of its robots' lights ([`Algorithm::light_names`]; empty: none), in
+    /// the order of their indices.
+    pub fn lights(&self) -> &[String] {
+        &self.lights
     }
 
     /// Whether a replay shows a byte of its robots' states ([`Algorithm::shown_bits`]).

@@ -16,7 +16,11 @@
 //!
 //! let algorithm = AlgorithmBox::new(ConvergeLocality);
 //! let config = SimConfig {
-//!     stop: StopSpec { criterion: algorithm.default_stop(), max_rounds: 10_000 },
+//!     stop: StopSpec {
+//!         criterion: algorithm.default_stop(),
+//!         goal: algorithm.goal(),
+//!         max_rounds: 10_000,
+//!     },
 //!     algorithm,
 //!     model: ModelParams::new(1.0, 2.0),
 //!     vision: VisionParams::for_step(1.0),
@@ -52,13 +56,14 @@ pub use index::{IndexPoint, IndexedSight, SegmentGrid, SpaceIndex, SpatialIndex,
 pub use resources::{RunFailure, SightBackend};
 pub use scheduler::{ActivationError, ActivationList, Objective, SchedulerSpec, SequentialOrder};
 pub use simulation::{Activity, RobotView, RoundReport, RunOutcome, SimConfig, Simulation};
-pub use stop::{StopCriterion, StopSpec};
+pub use stop::{Goal, StopCriterion, StopSpec, StoppedBy};
 pub use systems::RoundSet;
 
 /// The most used items.
 pub mod prelude {
     pub use crate::{
-        AlgorithmBox, AsyncSpec, AsyncStart, IndexedSight, RunOutcome, SchedulerSpec,
-        SequentialOrder, SightBackend, SimConfig, Simulation, StopCriterion, StopSpec, TickDist,
+        AlgorithmBox, AsyncSpec, AsyncStart, Goal, IndexedSight, RunOutcome, SchedulerSpec,
+        SequentialOrder, SightBackend, SimConfig, Simulation, StopCriterion, StopSpec, StoppedBy,
+        TickDist,
     };
 }

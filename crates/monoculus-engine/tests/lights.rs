@@ -207,7 +207,9 @@ fn robots_that_only_change_their_lights_are_not_quiescent() {
         };
         let start = vec![DVec2::ZERO, DVec2::new(5.0, 0.0), DVec2::new(0.0, 5.0)];
         let outcome = Simulation::new(config, start).unwrap().run();
-        assert!(outcome.converged, "{scheduler:?}");
+        // Quiescent far apart: stuck, not converged.
+        assert_eq!(outcome.stopped_by, StoppedBy::Quiescent, "{scheduler:?}");
+        assert!(outcome.stuck() && !outcome.converged, "{scheduler:?}");
         // On, then off: quiescent once every robot's light is off again (the round or
         // epoch that would change nothing is not counted).
         assert_eq!(outcome.rounds, 2, "{scheduler:?}");

@@ -21,6 +21,7 @@ impl<A: Algorithm> Algorithm for Together<A> {
     type Params = A::Params;
     type State = A::State;
     const STOP: StopCriterion = A::STOP;
+    const GOAL: Goal = A::GOAL;
     const STAYS_WHEN_SURROUNDED: bool = A::STAYS_WHEN_SURROUNDED;
 
     fn new(p: A::Params) -> Result<Self, String> {

@@ -101,8 +101,9 @@ pub trait Progress: Sync {
     /// A running run, at most once per [`Progress::interval`].
     fn round(&self, _at: &RunProgress<'_>) {}
 
-    /// A run finished (its row is written), when [`Progress::interval`] is set.
-    fn finished(&self, _at: &RunProgress<'_>, _converged: bool) {}
+    /// A run finished (its row is written), when [`Progress::interval`] is set, with its
+    /// outcome (its verdict: `converged`, `stuck()`, `stopped_by`).
+    fn finished(&self, _at: &RunProgress<'_>, _outcome: &RunOutcome) {}
 }
 
 /// No progress reports.
@@ -190,10 +191,7 @@ fn run_reported(
         },
         interrupt,
     )?;
-    progress.finished(
-        &at(outcome.rounds, outcome.final_diameter),
-        outcome.converged,
-    );
+    progress.finished(&at(outcome.rounds, outcome.final_diameter), &outcome);
     Ok((outcome, ms))
 }
 
@@ -240,7 +238,7 @@ pub fn run_experiment(
             })
             .and_then(|(outcome, ms)| match &outcome.failure {
                 // Stopped from outside: not a result; a rerun resumes it.
-                _ if outcome.interrupted => Ok(false),
+                _ if outcome.interrupted() => Ok(false),
                 // The algorithm failed: the run is recorded as such, the sweep goes on.
                 Some(f) => {
                     results.fail(cell, run.seed, f)?;

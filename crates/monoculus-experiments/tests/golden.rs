@@ -1,7 +1,8 @@
 //! The golden test: the exact outcomes of a few small sweeps, every algorithm under every
 //! scheduler, in the plane and in space, with the target policies, the exact backend, the
 //! error models and every initial shape. Each sweep's `runs.csv` without `wall_ms` and
-//! `config_hash` hashes to the value in `tests/golden.txt`; a change that moves any bit
+//! `config_hash` hashes to the value in `tests/golden.txt` (the outcomes, and on a line
+//! of their own the verdicts, younger than the outcomes' hashes); a change that moves any bit
 //! of any result fails here. After a change that is meant to change results, regenerate
 //! the file with `MONOCULUS_BLESS=1 cargo test -p monoculus-experiments --test golden`
 //! and say why in the commit.
@@ -99,14 +100,15 @@ max_rounds = 5000
     ),
 ];
 
-/// 64-bit FNV-1a of the rows of runs.csv, `wall_ms` and `config_hash` left out (and
-/// `faulty`, a column younger than the hashes: the faults tests check it).
-fn outcome_hash(runs: &Path) -> (String, usize) {
+/// Columns younger than the hashes of the outcomes, hashed on their own: `faulty` (the
+/// faults tests check it) and the verdicts of 0.3.
+const VERDICT_COLUMNS: [&str; 5] = ["stuck", "stopped_by", "goal", "final_radius", "faulty"];
+
+/// 64-bit FNV-1a of the rows of runs.csv over the columns `keep` accepts.
+fn hash_of(runs: &Path, keep: impl Fn(&str) -> bool) -> (String, usize) {
     let mut r = csv::Reader::from_path(runs).unwrap();
     let header = r.headers().unwrap().clone();
-    let keep: Vec<usize> = (0..header.len())
-        .filter(|&i| !matches!(&header[i], "wall_ms" | "config_hash" | "faulty"))
-        .collect();
+    let keep: Vec<usize> = (0..header.len()).filter(|&i| keep(&header[i])).collect();
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |s: &str| {
         for b in s.bytes().chain([b'\n']) {
@@ -128,6 +130,20 @@ fn outcome_hash(runs: &Path) -> (String, usize) {
     (format!("{h:016x}"), rows)
 }
 
+/// The outcomes: every column but `wall_ms`, `config_hash` and [`VERDICT_COLUMNS`].
+fn outcome_hash(runs: &Path) -> (String, usize) {
+    hash_of(runs, |c| {
+        !matches!(c, "wall_ms" | "config_hash") && !VERDICT_COLUMNS.contains(&c)
+    })
+}
+
+/// The verdicts: [`VERDICT_COLUMNS`] with `converged` and the seed.
+fn verdict_hash(runs: &Path) -> (String, usize) {
+    hash_of(runs, |c| {
+        matches!(c, "seed" | "converged") || VERDICT_COLUMNS.contains(&c)
+    })
+}
+
 #[test]
 fn outcomes_are_bit_identical_to_the_checked_in_ones() {
     let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden.txt");
@@ -147,6 +163,8 @@ fn outcomes_are_bit_identical_to_the_checked_in_ones() {
         let (hash, rows) = outcome_hash(&out.join("runs.csv"));
         assert_eq!(rows, exp.cells.len() * exp.seeds.len());
         got.insert(name.to_string(), format!("{hash} {rows}"));
+        let (hash, rows) = verdict_hash(&out.join("runs.csv"));
+        got.insert(format!("{name}/verdicts"), format!("{hash} {rows}"));
     }
     let text: String = got.iter().map(|(k, v)| format!("{k} {v}\n")).collect();
     if std::env::var_os("MONOCULUS_BLESS").is_some() {

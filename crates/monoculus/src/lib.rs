@@ -44,7 +44,7 @@
 use std::process::ExitCode;
 
 pub use monoculus_core::algorithms::{Algorithm, BadDecision};
-pub use monoculus_engine::{AlgorithmBox, RunOutcome, SimConfig, Simulation};
+pub use monoculus_engine::{AlgorithmBox, RunOutcome, SimConfig, Simulation, StoppedBy};
 pub use monoculus_experiments::{Experiment, Registry, RunOptions, SweepReport, run_experiment};
 
 /// The guide: writing an algorithm, from an empty crate to a sweep and a replay
@@ -91,8 +91,8 @@ pub fn activate_once<A: Algorithm, V: monoculus_core::geometry::Point>(
 pub mod prelude {
     pub use crate::App;
     pub use monoculus_core::algorithms::{
-        Algorithm, Decision, Directions, Ld, Lit, Model, NoParams, Observation, Ola, Positions,
-        StopCriterion, along, empty_sides,
+        Algorithm, Decision, Directions, Goal, Ld, Lit, Model, NoParams, Observation, Ola,
+        Positions, StopCriterion, along, empty_sides,
     };
     pub use monoculus_core::geometry::Point;
     pub use monoculus_core::observe::{Seen, Side};

@@ -113,9 +113,15 @@ impl Progress for Reporter {
         }
     }
 
-    fn finished(&self, at: &RunProgress<'_>, converged: bool) {
+    fn finished(&self, at: &RunProgress<'_>, outcome: &monoculus_engine::RunOutcome) {
         if self.lines.is_some() {
-            let how = if converged { "converged" } else { "stopped" };
+            let how = if outcome.converged {
+                "converged"
+            } else if outcome.stuck() {
+                "stuck"
+            } else {
+                "stopped"
+            };
             self.say(format!("{} ({how})", self.where_at(at)));
         }
     }

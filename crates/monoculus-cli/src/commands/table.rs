@@ -51,8 +51,18 @@ fn cell(x: f64, digits: usize) -> String {
     }
 }
 
+/// The converged runs of a cell out of its runs, and how many are stuck (fell quiescent
+/// short of their goal), if any: `20/20`, `0/20, 20 stuck`.
+pub fn converged_cell(st: &SummaryStats) -> String {
+    match st.stuck {
+        0 => format!("{}/{}", st.converged, st.runs),
+        k => format!("{}/{}, {k} stuck", st.converged, st.runs),
+    }
+}
+
 /// The per-cell table of a summary.csv: parameters that vary or matter, then
-/// converged/runs and rho, tau and rounds as median [q1, q3].
+/// converged/runs (with the stuck runs, if any) and rho, tau and rounds as median
+/// [q1, q3], over the converged runs.
 pub fn render(path: &Path, format: Format) -> Result<String, Failure> {
     render_with(path, format, false)
 }
@@ -68,11 +78,11 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
             .position(|h| h == name)
             .ok_or_else(|| Failure::Input(format!("{}: no column {name}", path.display())))
     };
-    // `missing` is absent from folders written before 0.3: read as 0 there.
+    // `missing` and `stuck` are absent from folders written before 0.3: read as 0 there.
     let stat_names: Vec<&str> = SUMMARY_COLUMNS
         .iter()
         .copied()
-        .filter(|&s| s != "missing" || header.iter().any(|h| h == "missing"))
+        .filter(|&s| !matches!(s, "missing" | "stuck") || header.iter().any(|h| h == s))
         .collect();
     let stat_idx: Vec<usize> = stat_names
         .iter()
@@ -90,7 +100,10 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
         let line = r.position().map_or(0, |p| p.line());
         for (&c, &name) in stat_idx.iter().zip(&stat_names) {
             let v = &r[c];
-            let whole = matches!(name, "runs" | "converged" | "hull_grew_runs" | "missing");
+            let whole = matches!(
+                name,
+                "runs" | "converged" | "stuck" | "hull_grew_runs" | "missing"
+            );
             let good = if whole {
                 v.parse::<u64>().is_ok()
             } else {
@@ -159,7 +172,7 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
             row.push(format!("{}/{}", st.hull_grew_runs, st.runs));
             row.push(cell(st.hull_growth_max_median, 3));
         }
-        row.push(format!("{}/{}", st.converged, st.runs));
+        row.push(converged_cell(st));
         row.push(format!(
             "{} [{}, {}]",
             cell(st.rho_median, 3),

@@ -244,15 +244,15 @@ fn frame_and_state<'a, A: Algorithm, P: Point>(
 /// The light a robot shows after its activation must be one of its algorithm's.
 fn check_light<A: Algorithm>(algorithm: &A, state: &A::State) -> Result<(), BadDecision> {
     let light = A::light(state);
-    let colours = A::LIGHTS.len().max(1);
-    if light < colours {
+    let declared = algorithm.light_names().len();
+    if light < declared.max(1) {
         return Ok(());
     }
     Err(BadDecision {
         algorithm: algorithm.name().to_string(),
         problem: format!(
             "shows light {light}, but declares {} (Algorithm::LIGHTS): a light is an index into them",
-            match A::LIGHTS.len() {
+            match declared {
                 0 => "no lights".to_string(),
                 1 => "1 light".to_string(),
                 k => format!("{k} lights"),

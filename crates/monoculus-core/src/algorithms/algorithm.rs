@@ -6,11 +6,12 @@ use std::fmt;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
-use super::{Decision, Observation, Sensing};
+use super::{Decision, Goal, Observation, Sensing};
 use crate::geometry::Point;
 use crate::rng::Stream;
 
-/// When a run has converged (SPEC section 6; config `stop.criterion`).
+/// When a run ends (SPEC section 6; config `stop.criterion`). Whether the swarm it ends
+/// with has converged is the algorithm's [`Goal`]'s to say.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StopCriterion {
     /// No robot would move if activated.
@@ -149,6 +150,19 @@ pub trait Algorithm: Sized + Send + Sync + 'static {
     /// The stop criterion a config's `stop.criterion = "default"` means for it.
     const STOP: StopCriterion = StopCriterion::QuiescentOrDiameter;
 
+    /// What convergence means for it (SPEC section 11): a run has converged when its
+    /// stop criterion ended it and this holds at the end; a run that fell quiescent
+    /// without it is *stuck*. A config's `stop.goal` may set another.
+    ///
+    /// ```
+    /// use monoculus_core::algorithms::{Algorithm, ConvergeLocality, ConvergeQuadrant, Goal, Median};
+    ///
+    /// assert_eq!(ConvergeLocality::GOAL, Goal::Disc);
+    /// assert_eq!(ConvergeQuadrant::GOAL, Goal::Box);
+    /// assert_eq!(Median::GOAL, Goal::Diameter); // the default
+    /// ```
+    const GOAL: Goal = Goal::Diameter;
+
     /// Whether its guarantees assume the paper's c >= 2b (a config with c < 2b then
     /// gets a warning).
     const ASSUMES_C_AT_LEAST_2B: bool = false;
@@ -272,6 +286,32 @@ pub trait Algorithm: Sized + Send + Sync + 'static {
     /// named at run time (bindings to other languages), which give theirs here.
     fn name(&self) -> &str {
         Self::NAME
+    }
+
+    /// The default stop criterion of this instance: [`Algorithm::STOP`], unless the type
+    /// serves algorithms declared at run time (bindings), which give theirs here.
+    fn stop(&self) -> StopCriterion {
+        Self::STOP
+    }
+
+    /// The goal of this instance: [`Algorithm::GOAL`], unless the type serves
+    /// algorithms declared at run time (bindings), which give theirs here.
+    fn goal(&self) -> Goal {
+        Self::GOAL
+    }
+
+    /// The names of this instance's lights: [`Algorithm::LIGHTS`], unless the type
+    /// serves algorithms declared at run time (bindings), which give theirs here (at
+    /// most [`MAX_LIGHTS`](super::MAX_LIGHTS); the colour of a state is still
+    /// [`Algorithm::light`]).
+    ///
+    /// ```
+    /// use monoculus_core::algorithms::{Algorithm, ConvergeLocality};
+    ///
+    /// assert_eq!(ConvergeLocality.light_names().len(), 0); // no lights
+    /// ```
+    fn light_names(&self) -> impl ExactSizeIterator<Item = &str> {
+        Self::LIGHTS.iter().copied()
     }
 
     /// Whether a robot with this state has terminated, for algorithms that terminate:

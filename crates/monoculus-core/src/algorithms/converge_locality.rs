@@ -1,6 +1,6 @@
 //! ConvergeLocality (SPEC 4.1).
 
-use super::{Algorithm, Decision, Ld, NoParams, Observation, StopCriterion};
+use super::{Algorithm, Decision, Goal, Ld, NoParams, Observation, StopCriterion};
 use crate::geometry::Point;
 use crate::rng::Stream;
 
@@ -15,6 +15,7 @@ impl Algorithm for ConvergeLocality {
     type Params = NoParams;
     type State = ();
     const STOP: StopCriterion = StopCriterion::QuiescentOrDiameter;
+    const GOAL: Goal = Goal::Disc;
     const ASSUMES_C_AT_LEAST_2B: bool = true;
 
     fn new(_: NoParams) -> Result<Self, String> {

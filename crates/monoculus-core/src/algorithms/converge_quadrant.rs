@@ -1,6 +1,6 @@
 //! ConvergeQuadrant (SPEC 4.2) and the set E it shares with the termination variant.
 
-use super::{Algorithm, Decision, NoParams, Observation, Ola, StopCriterion};
+use super::{Algorithm, Decision, Goal, NoParams, Observation, Ola, StopCriterion};
 use crate::geometry::Point;
 use crate::observe::Side;
 use crate::rng::Stream;
@@ -46,6 +46,7 @@ impl Algorithm for ConvergeQuadrant {
     type Params = NoParams;
     type State = ();
     const STOP: StopCriterion = StopCriterion::Box;
+    const GOAL: Goal = Goal::Box;
     const ASSUMES_C_AT_LEAST_2B: bool = true;
     // An inner robot: E is empty and it sees at least two points.
     const STAYS_WHEN_SURROUNDED: bool = true;

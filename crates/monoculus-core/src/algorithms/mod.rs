@@ -10,6 +10,7 @@ mod angle_bisector;
 mod center_of_gravity;
 mod converge_locality;
 mod converge_quadrant;
+mod goal;
 mod median;
 mod observation;
 mod termination;
@@ -24,6 +25,7 @@ pub use angle_bisector::AngleBisector;
 pub use center_of_gravity::CenterOfGravity;
 pub use converge_locality::ConvergeLocality;
 pub use converge_quadrant::{ConvergeQuadrant, along, empty_sides};
+pub use goal::Goal;
 pub use median::Median;
 pub use observation::{
     Directions, Kept, Ld, Lit, LocalFrame, Model, Observation, Ola, Positions, Sensing,

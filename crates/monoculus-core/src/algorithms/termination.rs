@@ -1,7 +1,9 @@
 //! ConvergeQuadrantTermination (SPEC 4.3).
 
 use super::converge_quadrant::{along, empty_sides};
-use super::{Algorithm, Decision, NoParams, Observation, Ola, StopCriterion, TerminationBits};
+use super::{
+    Algorithm, Decision, Goal, NoParams, Observation, Ola, StopCriterion, TerminationBits,
+};
 use crate::geometry::Point;
 use crate::observe::Side;
 use crate::rng::Stream;
@@ -21,6 +23,7 @@ impl Algorithm for ConvergeQuadrantTermination {
     type Params = NoParams;
     type State = TerminationBits;
     const STOP: StopCriterion = StopCriterion::Quiescent;
+    const GOAL: Goal = Goal::Box;
     const ASSUMES_C_AT_LEAST_2B: bool = true;
     // An inner robot: E is empty, so no bit is set, and it stays.
     const STAYS_WHEN_SURROUNDED: bool = true;

@@ -29,8 +29,8 @@ use crate::systems::{
     decide_one, measure_committed, measure_shape, refresh_snapshot, take_snapshot,
 };
 use crate::{
-    AsyncStart, EngineError, IndexPoint, MAX_MAGNITUDE, MAX_ROBOTS, SchedulerSpec, StopCriterion,
-    StopSpec,
+    AsyncStart, EngineError, Goal, IndexPoint, MAX_MAGNITUDE, MAX_ROBOTS, SchedulerSpec,
+    StopCriterion, StopSpec, StoppedBy,
 };
 
 /// Everything that defines a run besides the initial positions.
@@ -58,12 +58,13 @@ pub struct SimConfig {
 
 impl SimConfig {
     /// The paper's setting for `algorithm`: b = 1, c = 2, FSYNC, its default stop
-    /// criterion with a cap of `max_rounds`, the index backend, no errors.
+    /// criterion and goal with a cap of `max_rounds`, the index backend, no errors.
     pub fn paper(algorithm: impl Into<AlgorithmBox>, seed: u64, max_rounds: u64) -> Self {
         let algorithm = algorithm.into();
         SimConfig {
             stop: StopSpec {
                 criterion: algorithm.default_stop(),
+                goal: algorithm.goal(),
                 max_rounds,
             },
             algorithm,
@@ -96,9 +97,16 @@ pub struct RoundReport<'a, P> {
     /// Positions by robot index.
     pub positions: &'a [P],
     world: &'a World,
+    shown_lights: fn(&World) -> Vec<u8>,
 }
 
 impl<P> RoundReport<'_, P> {
+    /// The colour each robot shows, by robot ([`Simulation::lights_now`]; empty when
+    /// the algorithm has no lights).
+    pub fn lights(&self) -> Vec<u8> {
+        (self.shown_lights)(self.world)
+    }
+
     /// The robots activated in this round, ascending (round schedulers; empty for
     /// round 0 and under ASYNC, whose epochs are not rounds of activations).
     pub fn activated_robots(&self) -> Vec<u32> {
@@ -130,8 +138,18 @@ pub struct RunOutcome {
     pub moves: u64,
     /// Total distance travelled (moves * b for rigid moves).
     pub distance: f64,
-    /// Whether the stop criterion was reached before the cap.
+    /// Whether the run converged: its stop criterion ended it (not the cap, a
+    /// schedule's end, a failure or an interruption) and its goal holds at the end.
     pub converged: bool,
+    /// What ended the run.
+    pub stopped_by: StoppedBy,
+    /// The goal the run was judged by ([`StopSpec::goal`]).
+    pub goal: Goal,
+    /// Whether the goal holds for the configuration the run ended with.
+    pub goal_met: bool,
+    /// The radius of the smallest disc (ball in space) holding every correct robot at
+    /// the end.
+    pub final_radius: f64,
     /// Sum over robots of max(0, d_i - c/2), d_i the distance to the initial centroid.
     pub d_opt: f64,
     /// Largest d_i.
@@ -162,14 +180,23 @@ pub struct RunOutcome {
     /// Why the run stopped early, if its algorithm failed (a step along a direction that
     /// is not a unit vector, a panic): the run is then not converged.
     pub failure: Option<crate::resources::RunFailure>,
-    /// Whether the run was stopped from outside ([`Simulation::set_interrupt`]) before
-    /// its criterion or its cap: its metrics are those of where it stopped.
-    pub interrupted: bool,
     /// The number of faulty robots (SPEC 9.1); the metrics above are the correct robots'.
     pub faulty: u64,
 }
 
 impl RunOutcome {
+    /// Whether the run is stuck: it fell quiescent (no robot would move) without its
+    /// goal, so it would never reach it.
+    pub fn stuck(&self) -> bool {
+        self.stopped_by == StoppedBy::Quiescent && !self.goal_met
+    }
+
+    /// Whether the run was stopped from outside ([`Simulation::set_interrupt`]) before
+    /// its criterion or its cap: its metrics are those of where it stopped.
+    pub fn interrupted(&self) -> bool {
+        self.stopped_by == StoppedBy::Interrupted
+    }
+
     /// work / d_opt, with work = moves * b.
     pub fn rho(&self, step: f64) -> f64 {
         self.moves as f64 * step / self.d_opt
@@ -297,6 +324,7 @@ impl<P: IndexPoint> Simulation<P> {
             extents: &shape.extents,
             positions: self.positions(),
             world: &self.world,
+            shown_lights: self.hooks.shown_lights,
         }
     }
 }
@@ -317,6 +345,9 @@ pub(crate) struct Hooks {
     /// The colour each robot's state shows, by robot (empty: the algorithm has no
     /// lights).
     pub(crate) lights: fn(&mut World) -> Vec<u8>,
+    /// The colour each robot shows to the others now (ASYNC: set by an ended Compute),
+    /// by robot (empty: the algorithm has no lights).
+    pub(crate) shown_lights: fn(&World) -> Vec<u8>,
 }
 
 /// Installs `algorithm` into a run: its resource, the robots (with their kept frames and
@@ -348,5 +379,6 @@ pub(crate) fn install<P: IndexPoint, A: Algorithm>(
         terminated: run::terminated::<P, A>,
         shown_bits: view::shown_bits::<P, A>,
         lights: run::lights::<P, A>,
+        shown_lights: view::shown_lights::<P, A>,
     }
 }

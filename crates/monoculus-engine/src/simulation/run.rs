@@ -39,21 +39,22 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
                 || items
                     .iter()
                     .zip(robots)
-                    .any(|((.., after), (_, before))| relit::<P, A>(before, after));
+                    .any(|((.., after), (_, before))| relit::<P, A>(algorithm, before, after));
         }
         robots.par_iter().with_min_len(32).any(|(i, before)| {
             let mut after = before.clone();
             decide_one(params, algorithm, view, *i, u64::MAX, after.as_mut()).is_some()
-                || relit::<P, A>(before, &after)
+                || relit::<P, A>(algorithm, before, &after)
         })
     }
     /// Whether an activation changed the robot's light.
     fn relit<P: IndexPoint, A: Algorithm>(
+        algorithm: &A,
         before: &Option<KeptBy<P, A>>,
         after: &Option<KeptBy<P, A>>,
     ) -> bool {
         let light = |m: &Option<KeptBy<P, A>>| m.as_ref().map(|m| A::light(&m.state));
-        !A::LIGHTS.is_empty() && light(before) != light(after)
+        algorithm.light_names().len() > 0 && light(before) != light(after)
     }
     let rule = (&params, &*algorithm);
     let quiet = match snapshot.sight.as_ref().expect("snapshot refreshed") {
@@ -71,11 +72,13 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
 
 /// The colour each robot's state shows (empty when `A` has no lights).
 pub(super) fn lights<P: IndexPoint, A: Algorithm>(world: &mut World) -> Vec<u8> {
-    if A::LIGHTS.is_empty() {
+    let algorithm = world.resource::<Rule<A>>().0.clone();
+    if algorithm.light_names().len() == 0 {
         return Vec::new();
     }
     let mut q = world.query::<(&Robot, Option<&MemoryOf<P, A>>)>();
     crate::systems::lights_of::<A>(
+        &*algorithm,
         q.iter(world).count(),
         q.iter(world)
             .filter_map(|(r, m)| Some((r.index as usize, &m?.0.state))),
@@ -147,7 +150,41 @@ impl<P: IndexPoint> Simulation<P> {
     /// Whether the stop criterion holds now (quiescence is checked on a copy: nothing
     /// changes).
     pub fn criterion_holds_now(&mut self) -> bool {
-        self.criterion_holds()
+        self.criterion_met_now().is_some()
+    }
+
+    /// Which part of the stop criterion holds now, if any: what would end a run here
+    /// (the diameter or the box before quiescence, which is checked on a copy, under
+    /// FSYNC too).
+    pub fn criterion_met_now(&mut self) -> Option<StoppedBy> {
+        self.criterion_met(false)
+    }
+
+    /// Whether the goal ([`StopSpec::goal`]) holds for the correct robots now.
+    pub fn goal_holds_now(&self) -> bool {
+        let model = &self.config.model;
+        self.goal_measure().0 <= self.config.stop.goal.bound(model.step, model.locality)
+    }
+
+    /// The radius of the smallest disc (ball in space) holding every correct robot now
+    /// (ASYNC: movers where they are, as the shape is measured).
+    pub fn enclosing_radius(&self) -> f64 {
+        let now = self.positions_now();
+        let correct = self.world.resource::<Params>().correct(&now);
+        monoculus_core::geometry::enclosing_radius(&correct)
+    }
+
+    /// The goal's measure now and the enclosing radius.
+    fn goal_measure(&self) -> (f64, f64) {
+        let shape = self.world.resource::<Shape>();
+        let radius = self.enclosing_radius();
+        (
+            self.config
+                .stop
+                .goal
+                .measure(shape.diameter, radius, &shape.extents),
+            radius,
+        )
     }
 
     /// Rounds completed (ASYNC: epochs).
@@ -169,7 +206,10 @@ impl<P: IndexPoint> Simulation<P> {
         self.world.resource::<Params>().failure.get()
     }
 
-    fn criterion_holds(&mut self) -> bool {
+    /// Which part of the criterion holds. `by_round`: under FSYNC, quiescence is left to
+    /// the run's loop, which finds it as a round in which nobody moves (see
+    /// `run_rounds_with`); otherwise it is checked here.
+    fn criterion_met(&mut self, by_round: bool) -> Option<StoppedBy> {
         let c = self.config.model.locality;
         let b = self.config.model.step;
         let shape = self.world.resource::<Shape>();
@@ -177,11 +217,11 @@ impl<P: IndexPoint> Simulation<P> {
             shape.diameter <= c,
             shape.extents.iter().all(|&e| e <= 2.0 * b),
         );
-        let fsync = self.config.scheduler == SchedulerSpec::Fsync;
-        match self.config.stop.criterion {
-            StopCriterion::Diameter => diameter_ok,
-            StopCriterion::Box => box_ok,
-            StopCriterion::QuiescentOrDiameter if diameter_ok => true,
+        let fsync = by_round && self.config.scheduler == SchedulerSpec::Fsync;
+        let quiet = match self.config.stop.criterion {
+            StopCriterion::Diameter => return diameter_ok.then_some(StoppedBy::Diameter),
+            StopCriterion::Box => return box_ok.then_some(StoppedBy::Box),
+            StopCriterion::QuiescentOrDiameter if diameter_ok => return Some(StoppedBy::Diameter),
             // Under FSYNC quiescence shows as a round in which nobody moves (see `run_with`).
             StopCriterion::Quiescent | StopCriterion::QuiescentOrDiameter if fsync => false,
             StopCriterion::Quiescent | StopCriterion::QuiescentOrDiameter => {
@@ -192,7 +232,7 @@ impl<P: IndexPoint> Simulation<P> {
                     .get_resource::<AsyncClock>()
                     .is_some_and(|c| c.in_motion > 0)
                 {
-                    return false;
+                    return None;
                 }
                 let key = (
                     self.world.resource::<Positions<P>>().generation,
@@ -203,7 +243,7 @@ impl<P: IndexPoint> Simulation<P> {
                     },
                 );
                 if self.last_quiescence_check == Some(key) {
-                    return false;
+                    return None;
                 }
                 let quiet = self.is_quiescent();
                 if !quiet {
@@ -211,7 +251,8 @@ impl<P: IndexPoint> Simulation<P> {
                 }
                 quiet
             }
-        }
+        };
+        quiet.then_some(StoppedBy::Quiescent)
     }
 
     /// Runs to the stop criterion (or the round cap).
@@ -240,21 +281,23 @@ impl<P: IndexPoint> Simulation<P> {
         let quiescence = self.config.stop.criterion.checks_quiescence();
         // Rounds already run (by `step`) count: a run continues where the steps left it.
         let mut rounds = self.world.resource::<Clock>().round;
-        let converged = loop {
-            if self.failure().is_some() || self.interrupted() {
-                break false;
+        let stopped_by = loop {
+            if let Some(cause) = self.stopped_from_outside() {
+                break cause;
             }
-            if self.criterion_holds() {
-                break true;
+            if let Some(met) = self.criterion_met(true) {
+                break met;
             }
-            if rounds >= self.config.stop.max_rounds
-                || self
-                    .config
-                    .scheduler
-                    .last_round()
-                    .is_some_and(|last| rounds >= last)
+            if rounds >= self.config.stop.max_rounds {
+                break StoppedBy::MaxRounds;
+            }
+            if self
+                .config
+                .scheduler
+                .last_round()
+                .is_some_and(|last| rounds >= last)
             {
-                break false;
+                break StoppedBy::ScheduleEnd;
             }
             let before = *self.world.resource::<Tally>();
             let check = fsync && quiescence;
@@ -278,46 +321,67 @@ impl<P: IndexPoint> Simulation<P> {
                 if let Some(saved) = saved {
                     (self.hooks.restore)(&mut self.world, saved);
                 }
-                break true;
+                break StoppedBy::Quiescent;
             }
             rounds += 1;
             after(self, rounds);
         };
-        self.outcome(rounds, converged)
+        self.outcome(rounds, stopped_by)
     }
 
     /// ASYNC: event tick by event tick; the criterion is checked at the start, after
     /// every tick at which a move ended, and (for quiescence) whenever nobody moves.
     /// `after` is called after every tick, with whether it completed an epoch.
     pub(super) fn run_async_with(&mut self, mut after: impl FnMut(&Self, bool)) -> RunOutcome {
-        let converged = loop {
-            if self.failure().is_some() || self.interrupted() {
-                break false;
+        let stopped_by = loop {
+            if let Some(cause) = self.stopped_from_outside() {
+                break cause;
             }
-            if self.criterion_holds() {
-                break true;
+            if let Some(met) = self.criterion_met(true) {
+                break met;
             }
             if self.world.resource::<AsyncClock>().epochs >= self.config.stop.max_rounds {
-                break false;
+                break StoppedBy::MaxRounds;
             }
             self.step();
             let epoch_ended = self.world.resource::<AsyncClock>().epoch_ended;
             after(self, epoch_ended);
         };
         let epochs = self.world.resource::<AsyncClock>().epochs;
-        self.outcome(epochs, converged)
+        self.outcome(epochs, stopped_by)
     }
 
-    fn outcome(&mut self, rounds: u64, converged: bool) -> RunOutcome {
+    /// A failure or an interruption, if the run has had one.
+    fn stopped_from_outside(&self) -> Option<StoppedBy> {
+        if self.failure().is_some() {
+            Some(StoppedBy::Failure)
+        } else if self.interrupted() {
+            Some(StoppedBy::Interrupted)
+        } else {
+            None
+        }
+    }
+
+    fn outcome(&mut self, rounds: u64, stopped_by: StoppedBy) -> RunOutcome {
         let tally = *self.world.resource::<Tally>();
         let shape = self.world.resource::<Shape>().clone();
         let terminated = (self.hooks.terminated)(&mut self.world);
+        let (measure, final_radius) = self.goal_measure();
+        let stop = self.config.stop;
+        let goal_met = measure
+            <= stop
+                .goal
+                .bound(self.config.model.step, self.config.model.locality);
         RunOutcome {
             rounds,
             activations: tally.activations,
             moves: tally.moves,
             distance: tally.distance,
-            converged,
+            converged: stopped_by.by_criterion() && goal_met,
+            stopped_by,
+            goal: stop.goal,
+            goal_met,
+            final_radius,
             d_opt: self.d_opt,
             d_max: self.d_max,
             final_diameter: shape.diameter,
@@ -331,7 +395,6 @@ impl<P: IndexPoint> Simulation<P> {
             terminated,
             ticks: self.world.get_resource::<AsyncClock>().map(|c| c.tick),
             failure: self.failure(),
-            interrupted: self.interrupted(),
             faulty: self
                 .world
                 .resource::<Params>()

@@ -28,6 +28,10 @@ pub struct RobotView<P> {
     pub decision: Option<P>,
     /// The byte of its state a replay shows (the termination algorithm: its bits).
     pub bits: Option<u8>,
+    /// The colour it shows, an index into its algorithm's lights (`None`: the algorithm
+    /// has none). Under ASYNC the colour the others see: set by a Compute that has
+    /// ended.
+    pub light: Option<u8>,
 }
 
 impl<P: IndexPoint> Simulation<P> {
@@ -59,6 +63,7 @@ impl<P: IndexPoint> Simulation<P> {
                 looked: false,
                 decision: None,
                 bits: None,
+                light: None,
             };
             n
         ];
@@ -76,6 +81,7 @@ impl<P: IndexPoint> Simulation<P> {
                     looked,
                     decision: if started { t.pending() } else { None },
                     bits: None,
+                    light: None,
                 };
             }
         } else {
@@ -95,13 +101,24 @@ impl<P: IndexPoint> Simulation<P> {
                     looked,
                     decision: if looked { intent.0 } else { None },
                     bits: None,
+                    light: None,
                 };
             }
         }
         for (r, bits) in (self.hooks.shown_bits)(&self.world) {
             views[r as usize].bits = Some(bits);
         }
+        for (view, light) in views.iter_mut().zip(self.lights_now()) {
+            view.light = Some(light);
+        }
         views
+    }
+
+    /// The colour each robot shows now, by robot: an index into the algorithm's lights
+    /// ([`AlgorithmBox::lights`](crate::AlgorithmBox::lights)); empty when it has none.
+    /// Under ASYNC a robot shows the colour its last ended Compute set.
+    pub fn lights_now(&self) -> Vec<u8> {
+        (self.hooks.shown_lights)(&self.world)
     }
 
     /// Runs to the stop criterion like [`Self::run`], calling `on_step` with the start
@@ -112,6 +129,23 @@ impl<P: IndexPoint> Simulation<P> {
             return self.run_async_with(|sim, _| on_step(sim));
         }
         self.run_rounds_with(|sim, _| on_step(sim))
+    }
+}
+
+/// The colour each robot shows, by robot (empty when the algorithm has no lights).
+pub(super) fn shown_lights<P: IndexPoint, A: Algorithm>(world: &World) -> Vec<u8> {
+    if let Some(l) = world.get_resource::<asynchrony::Lights>() {
+        return l.shown.clone();
+    }
+    let algorithm = &world.resource::<Rule<A>>().0;
+    let n = world.resource::<Positions<P>>().points.len();
+    match world.try_query::<(&Robot, &MemoryOf<P, A>)>() {
+        Some(mut q) => crate::systems::lights_of::<A>(
+            algorithm,
+            n,
+            q.iter(world).map(|(r, m)| (r.index as usize, &m.0.state)),
+        ),
+        None => crate::systems::lights_of::<A>(algorithm, n, std::iter::empty()),
     }
 }
 

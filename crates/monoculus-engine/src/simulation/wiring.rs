@@ -41,7 +41,8 @@ pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(
         clock.schedule(until, i);
     }
     *world.resource_mut::<AsyncClock>() = clock;
-    let lights = crate::systems::lights_of::<A>(entities.len(), std::iter::empty());
+    let algorithm = world.resource::<Rule<A>>().0.clone();
+    let lights = crate::systems::lights_of::<A>(&*algorithm, entities.len(), std::iter::empty());
     *world.resource_mut::<asynchrony::Lights>() = asynchrony::Lights {
         shown: lights.clone(),
         set: lights,

@@ -22,6 +22,7 @@ fn decisions<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     robots: &[(usize, Option<KeptBy<P, A>>)],
 ) -> Vec<Option<P>> {
     let lights = lights_of::<A>(
+        algorithm,
         sight.len(),
         robots
             .iter()

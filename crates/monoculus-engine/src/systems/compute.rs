@@ -21,13 +21,14 @@ pub type KeptBy<P, A> = Kept<P, <A as Algorithm>::State>;
 pub type View<'a, S> = (&'a S, &'a [u8]);
 
 /// The colour each of `n` robots shows, from the states of those that keep one (the
-/// others show the light of the default state); empty when `A` declares no lights
-/// ([`Algorithm::LIGHTS`]).
+/// others show the light of the default state); empty when `algorithm` declares no
+/// lights ([`Algorithm::light_names`]).
 pub fn lights_of<'a, A: Algorithm>(
+    algorithm: &A,
     n: usize,
     states: impl Iterator<Item = (usize, &'a A::State)>,
 ) -> Vec<u8> {
-    if A::LIGHTS.is_empty() {
+    if algorithm.light_names().len() == 0 {
         return Vec::new();
     }
     let mut lights = vec![light::<A>(&A::State::default()); n];
@@ -403,6 +404,7 @@ fn compute_all<'a, P: IndexPoint, S: Sight<P>, A: Algorithm>(
     let (bits, count, with_memory) = deciding::<P, S, A>(params.0, sight, robots);
     // The colours shown are those of the states before this Compute.
     let lights = lights_of::<A>(
+        params.1,
         Sight::len(sight),
         robots
             .iter()

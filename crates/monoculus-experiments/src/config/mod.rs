@@ -21,7 +21,7 @@ use monoculus_core::geometry::Point;
 use monoculus_core::init::{InitShape, generate};
 use monoculus_core::vision::VisionParams;
 use monoculus_engine::{
-    AlgorithmBox, AsyncSpec, ByzantineRule, CrashAt, FaultCount, FaultKind, FaultSpec,
+    AlgorithmBox, AsyncSpec, ByzantineRule, CrashAt, FaultCount, FaultKind, FaultSpec, Goal,
     MAX_MAGNITUDE, SchedulerSpec, SimConfig, StopCriterion, StopSpec, TickDist,
 };
 

@@ -126,10 +126,15 @@ pub enum Property {
     /// The diameter of the swarm grows in some round (ASYNC: epoch).
     DiameterGrows,
     /// The bounding box (in the global axes) grows on some axis in some round (ASYNC:
-    /// epoch): what ConvergeQuadrant's argument forbids.
+    /// epoch): what ConvergeQuadrant's argument forbids (with `hunt.above = 2b`: the
+    /// box's extent, once at most 2b, stays at most 2b, and a wider box does not grow).
     BoxGrows,
-    /// The run does not converge within `stop.max_rounds`.
+    /// The run does not converge: the cap `stop.max_rounds` ends it, or it falls
+    /// quiescent short of its goal (stuck).
     NoConvergence,
+    /// The run falls quiescent short of its goal (SPEC section 11): no robot would move,
+    /// and the goal does not hold.
+    Stuck,
     /// Two robots that started apart reach one point (within `vision.eps_pos`).
     Collision,
     /// No violation: the start (and schedule) with the most rounds to converge (epochs
@@ -145,6 +150,7 @@ impl Property {
             Property::DiameterGrows => "diameter_grows",
             Property::BoxGrows => "box_grows",
             Property::NoConvergence => "no_convergence",
+            Property::Stuck => "stuck",
             Property::Collision => "collision",
             Property::Slow => "slow",
         }
@@ -201,6 +207,11 @@ pub struct HuntSpec {
     /// durations.csv). Default true; false searches the run's seed only.
     #[serde(default = "default_true")]
     pub durations: bool,
+    /// Growth properties (`hull_grows`, `diameter_grows`, `box_grows`): a round counts
+    /// only where the grown measure (area or volume, diameter, extent) exceeds this.
+    /// Default 0: every growth counts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub above: Option<f64>,
     /// ASYNC: the longest duration the search gives a phase, ticks. Default 10 times the
     /// longest typical phase of the config (a fixed length, a uniform maximum, an
     /// exponential mean), and at least 10.
@@ -580,6 +591,21 @@ pub enum CriterionName {
     Box,
 }
 
+/// Goal names (`stop.goal`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GoalName {
+    /// The algorithm's own (SPEC section 11).
+    #[default]
+    Default,
+    /// Diameter <= c.
+    Diameter,
+    /// Every robot within a disc (ball) of radius c.
+    Disc,
+    /// Bounding box <= 2b on every axis.
+    Box,
+}
+
 fn default_max_rounds() -> u64 {
     100_000
 }
@@ -591,6 +617,9 @@ pub struct StopConfig {
     /// Criterion. Default: the algorithm's.
     #[serde(default)]
     pub criterion: CriterionName,
+    /// What convergence means. Default: the algorithm's goal.
+    #[serde(default)]
+    pub goal: GoalName,
     /// Round cap. Default 100000.
     #[serde(default = "default_max_rounds")]
     pub max_rounds: u64,
@@ -600,6 +629,7 @@ impl Default for StopConfig {
     fn default() -> Self {
         StopConfig {
             criterion: CriterionName::Default,
+            goal: GoalName::Default,
             max_rounds: default_max_rounds(),
         }
     }

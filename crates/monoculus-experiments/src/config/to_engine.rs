@@ -26,6 +26,16 @@ impl Cell {
         }
     }
 
+    /// The goal in force: what convergence means for the cell's runs.
+    pub fn goal(&self) -> Goal {
+        match self.spec.stop.goal {
+            GoalName::Default => self.algorithm.goal(),
+            GoalName::Diameter => Goal::Diameter,
+            GoalName::Disc => Goal::Disc,
+            GoalName::Box => Goal::Box,
+        }
+    }
+
     /// The engine configuration for `seed`.
     pub fn sim_config(&self, seed: u64) -> SimConfig {
         let a = &self.spec.algorithm;
@@ -78,6 +88,7 @@ impl Cell {
             },
             stop: StopSpec {
                 criterion: self.criterion(),
+                goal: self.goal(),
                 max_rounds: self.spec.stop.max_rounds,
             },
             seed,

@@ -19,7 +19,7 @@ pub const PARAM_COLUMNS: [(&str, &str); 9] = [
 ];
 
 /// Metric columns of `runs.csv`, after the parameters and the seed.
-pub const METRIC_COLUMNS: [&str; 25] = [
+pub const METRIC_COLUMNS: [&str; 29] = [
     "rounds",
     "activations",
     "moves",
@@ -28,7 +28,11 @@ pub const METRIC_COLUMNS: [&str; 25] = [
     "rho",
     "tau",
     "converged",
+    "stuck",
+    "stopped_by",
+    "goal",
     "final_diameter",
+    "final_radius",
     "final_extent_x",
     "final_extent_y",
     "final_extent_z",
@@ -127,7 +131,7 @@ fn serde_name<T: serde::Serialize>(value: &T) -> String {
 pub struct RunMetrics {
     /// The seed.
     pub seed: u64,
-    /// Rounds (ASYNC: epochs) when the criterion first held.
+    /// Rounds (ASYNC: epochs) when the run stopped (the criterion first held, or the cap).
     pub rounds: u64,
     /// Activations.
     pub activations: u64,
@@ -145,11 +149,26 @@ pub struct RunMetrics {
     /// rounds / d_max.
     #[serde(with = "plain")]
     pub tau: f64,
-    /// Whether the criterion held before `max_rounds`.
+    /// Whether the run converged: its stop criterion ended it and its goal holds at the
+    /// end.
     pub converged: bool,
+    /// Whether it fell quiescent without its goal. Absent (false) in folders written
+    /// before 0.3.
+    #[serde(default)]
+    pub stuck: bool,
+    /// What ended the run: `quiescent`, `diameter`, `box`, `max_rounds`,
+    /// `schedule_end` (empty in folders written before 0.3).
+    #[serde(default)]
+    pub stopped_by: String,
+    /// The goal the run was judged by: `diameter`, `disc` or `box` (empty before 0.3).
+    #[serde(default)]
+    pub goal: String,
     /// Diameter at the end.
     #[serde(with = "plain")]
     pub final_diameter: f64,
+    /// Radius of the smallest disc (ball) holding the robots at the end (NaN before 0.3).
+    #[serde(with = "plain", default = "nan")]
+    pub final_radius: f64,
     /// Extent on x at the end.
     #[serde(with = "plain_opt")]
     pub final_extent_x: Option<f64>,
@@ -193,6 +212,10 @@ pub struct RunMetrics {
     pub wall_ms: f64,
     /// [`crate::results::config_hash`] of the experiment's `config.toml`.
     pub config_hash: String,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// Floats as `{}` prints them (the shortest form that reads back to the same bits).
@@ -258,7 +281,11 @@ impl RunMetrics {
             rho: o.rho(cell.spec.algorithm.step),
             tau: o.tau(),
             converged: o.converged,
+            stuck: o.stuck(),
+            stopped_by: o.stopped_by.name().to_string(),
+            goal: o.goal.name().to_string(),
             final_diameter: o.final_diameter,
+            final_radius: o.final_radius,
             final_extent_x: o.final_extents.first().copied(),
             final_extent_y: o.final_extents.get(1).copied(),
             final_extent_z: o.final_extents.get(2).copied(),
@@ -407,7 +434,11 @@ mod tests {
             rho: f64::INFINITY,
             tau: 100.0,
             converged: true,
+            stuck: false,
+            stopped_by: "box".into(),
+            goal: "box".into(),
             final_diameter: 1.5,
+            final_radius: 0.75,
             final_extent_x: Some(1.0),
             final_extent_y: Some(0.25),
             final_extent_z: None,
@@ -435,7 +466,7 @@ mod tests {
         assert_eq!(lines.next().unwrap(), want.join(","));
         assert_eq!(
             lines.next().unwrap(),
-            "3,12,100,40,0.1,0.0000001,inf,100,true,1.5,1,0.25,,2,1,2,0,false,0,0,,40,box,9,0,1.235,00ff"
+            "3,12,100,40,0.1,0.0000001,inf,100,true,false,box,box,1.5,0.75,1,0.25,,2,1,2,0,false,0,0,,40,box,9,0,1.235,00ff"
         );
         let header: Vec<String> = want.clone();
         let schema = RunMetrics::schema(&header).unwrap();

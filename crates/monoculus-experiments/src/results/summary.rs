@@ -15,6 +15,8 @@ pub struct CellStats {
     pub runs: usize,
     /// Converged runs.
     pub converged: usize,
+    /// Stuck runs: quiescent without their goal.
+    pub stuck: usize,
     /// Runs in which the hull grew at least once.
     pub hull_grew: usize,
     rho: Vec<f64>,
@@ -33,8 +35,9 @@ impl CellStats {
     }
 
     /// Adds one run; rho, tau and rounds count only for converged runs.
-    pub fn add(&mut self, rho: f64, tau: f64, rounds: f64, converged: bool) {
+    pub fn add(&mut self, rho: f64, tau: f64, rounds: f64, converged: bool, stuck: bool) {
         self.runs += 1;
+        self.stuck += usize::from(stuck);
         if converged {
             self.converged += 1;
             if rho.is_finite() {
@@ -62,9 +65,10 @@ pub fn quantile(values: &[f64], q: f64) -> f64 {
 }
 
 /// Statistic columns of `summary.csv`.
-pub const SUMMARY_COLUMNS: [&str; 13] = [
+pub const SUMMARY_COLUMNS: [&str; 14] = [
     "runs",
     "converged",
+    "stuck",
     "rho_median",
     "rho_q1",
     "rho_q3",
@@ -84,8 +88,12 @@ pub const SUMMARY_COLUMNS: [&str; 13] = [
 pub struct SummaryStats {
     /// Runs of the cell.
     pub runs: u64,
-    /// Converged runs.
+    /// Converged runs: their stop criterion ended them and their goal held.
     pub converged: u64,
+    /// Stuck runs: quiescent without their goal. Absent (0) in folders written before
+    /// 0.3.
+    #[serde(default)]
+    pub stuck: u64,
     /// Median of rho over the converged runs (NaN: none).
     #[serde(with = "plain")]
     pub rho_median: f64,
@@ -128,6 +136,7 @@ impl SummaryStats {
             missing,
             runs: s.runs as u64,
             converged: s.converged as u64,
+            stuck: s.stuck as u64,
             rho_median: quantile(&s.rho, 0.5),
             rho_q1: quantile(&s.rho, 0.25),
             rho_q3: quantile(&s.rho, 0.75),
@@ -172,7 +181,7 @@ pub fn summary_bytes(exp: &Experiment, rows: &RunRows) -> Vec<u8> {
         }
         let m: RunMetrics = schema.read_record(row).expect("rows are checked when read");
         let s = &mut stats[id.cell];
-        s.add(m.rho, m.tau, m.rounds as f64, m.converged);
+        s.add(m.rho, m.tau, m.rounds as f64, m.converged, m.stuck);
         s.add_hull(m.hull_growth_max);
     }
     let mut out = csv::WriterBuilder::new().from_writer(vec![]);
@@ -205,7 +214,7 @@ mod tests {
             .unwrap();
         let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
         assert_eq!(text.lines().next().unwrap(), SUMMARY_COLUMNS.join(","));
-        assert_eq!(row[2], "NaN");
+        assert_eq!(row[3], "NaN");
         let header: Vec<String> = SUMMARY_COLUMNS.iter().map(|c| c.to_string()).collect();
         let back: SummaryStats = SummaryStats::schema(&header).unwrap().read(&row).unwrap();
         assert_eq!(fields_of(&back), row);
