@@ -1,6 +1,6 @@
 //! `monoculus hunt`: a search for starts (and schedules) that break a property of an
-//! algorithm — the hull grows, the diameter grows, the run does not converge, two robots
-//! collide — or that make it slow; a counterexample found is shrunk and written as a
+//! algorithm — the hull grows, the diameter grows, the run does not converge or is stuck
+//! short of its goal, two robots collide — or that make it slow; a counterexample found is shrunk and written as a
 //! config that `monoculus run` replays.
 //!
 //! The search keeps `hunt.population` candidates side by side. Each generation every
@@ -104,6 +104,10 @@ pub struct Evaluation {
     pub epochs: u64,
     /// Whether the run converged.
     pub converged: bool,
+    /// Whether the run fell quiescent short of its goal.
+    pub stuck: bool,
+    /// What ended the run (`None` for a candidate that could not run).
+    pub stopped_by: Option<monoculus_engine::StoppedBy>,
     /// Looks made by all the robots.
     pub activations: u64,
     /// Why the run failed (the algorithm panicked or returned a bad direction), if it did.
@@ -318,6 +322,15 @@ impl Hunt {
                     ),
                 ));
             }
+            Property::Stuck if !cell.criterion().checks_quiescence() => {
+                return Err(err(
+                    "hunt.property",
+                    format!(
+                        "stuck is a run stopped by quiescence short of its goal, and stop.criterion = \"{}\" never stops a run for quiescence: use \"quiescent\" or \"quiescent_or_diameter\"",
+                        cell.criterion().name()
+                    ),
+                ));
+            }
             Property::Slow | Property::NoConvergence if cell.spec.faults.is_some() => {
                 return Err(err(
                     "hunt.property",
@@ -339,6 +352,26 @@ impl Hunt {
                     spec.property.name()
                 ),
             ));
+        }
+        if let Some(above) = spec.above {
+            if !matches!(
+                spec.property,
+                Property::HullGrows | Property::DiameterGrows | Property::BoxGrows
+            ) {
+                return Err(err(
+                    "hunt.above",
+                    format!(
+                        "a threshold for growth: only with hull_grows, diameter_grows or box_grows, not {}",
+                        spec.property.name()
+                    ),
+                ));
+            }
+            if !(above >= 0.0 && above.is_finite()) {
+                return Err(err(
+                    "hunt.above",
+                    format!("{above}: a threshold is a finite number >= 0"),
+                ));
+            }
         }
         // An adversary choosing every round's robots can starve one robot for the whole
         // cap, which is not a failure to converge: no_convergence searches SSYNC's seed.

@@ -243,6 +243,8 @@ impl Hunt {
             rounds: 0,
             epochs: 0,
             converged: false,
+            stuck: false,
+            stopped_by: None,
             activations: 0,
             failure: None,
         };
@@ -264,12 +266,17 @@ impl Hunt {
         let mut violated_at = None;
         let mut previous: Option<(f64, f64)> = None;
         let mut extents: Vec<f64> = Vec::new();
+        // A growth counts where the grown measure exceeds `above`; the score is the
+        // growth against the larger of the measure before and `above` (so it nears 0
+        // from below as a growth nears the threshold).
+        let above = self.spec.above.unwrap_or(0.0);
         let outcome = sim.run_with(|r| {
             let grew = |before: f64, now: f64, score: &mut f64| {
-                if before > 0.0 && now != before {
-                    *score = f64::max(*score, now / before - 1.0);
+                let base = before.max(above);
+                if base > 0.0 && now != before {
+                    *score = f64::max(*score, now / base - 1.0);
                 }
-                hull_grew(before, now)
+                hull_grew(before, now) && now > above
             };
             let broke = match (property, previous) {
                 (Property::HullGrows, Some((hull, _))) => grew(hull, r.hull, &mut score),
@@ -319,6 +326,23 @@ impl Hunt {
                 score = epochs as f64;
                 (false, outcome.rounds)
             }
+            Property::Stuck => {
+                // How far from its goal the run fell quiescent (above 1: stuck); runs
+                // that did not fall quiescent score 0.
+                let model = &self.cell.sim_config(0).model;
+                let goal = outcome.goal;
+                let measure = goal.measure(
+                    outcome.final_diameter,
+                    outcome.final_radius,
+                    &outcome.final_extents,
+                );
+                score = if outcome.stopped_by == monoculus_engine::StoppedBy::Quiescent {
+                    measure / goal.bound(model.step, model.locality)
+                } else {
+                    0.0
+                };
+                (outcome.stuck(), outcome.rounds)
+            }
             _ => (violated_at.is_some(), violated_at.unwrap_or(outcome.rounds)),
         };
         if violated && property != Property::NoConvergence {
@@ -331,6 +355,8 @@ impl Hunt {
             rounds: outcome.rounds,
             epochs,
             converged: outcome.converged,
+            stuck: outcome.stuck(),
+            stopped_by: Some(outcome.stopped_by),
             activations: outcome.activations,
             failure: None,
         }

@@ -129,9 +129,18 @@ fn shows(hunt: &Hunt, best: &Found) -> String {
             "two robots reach one point in {unit} {} (see `monoculus trace --positions`)",
             e.round
         ),
+        (Property::NoConvergence, true) if e.stuck => format!(
+            "stuck in {unit} {}: quiescent short of its goal; runs.csv says converged = false, stuck = true",
+            e.rounds
+        ),
         (Property::NoConvergence, true) => format!(
             "no convergence within stop.max_rounds = {}: runs.csv says converged = false",
             hunt.max_rounds
+        ),
+        (Property::Stuck, true) => format!(
+            "stuck in {unit} {}: quiescent short of its goal ({}); runs.csv says stuck = true",
+            e.rounds,
+            hunt.cell.goal().describe()
         ),
         (Property::Slow, _) => format!(
             "{} {unit}s to {} ({} epochs): runs.csv column rounds",
@@ -207,6 +216,14 @@ pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
             "converged",
             e.map_or("null".into(), |e| e.converged.to_string()),
         ),
+        ("stuck", e.map_or("null".into(), |e| e.stuck.to_string())),
+        (
+            "stopped_by",
+            e.and_then(|e| e.stopped_by)
+                .map_or("null".into(), |s| json::string(s.name())),
+        ),
+        ("goal", json::string(hunt.cell.goal().name())),
+        ("above", hunt.spec.above.map_or("null".into(), json::number)),
         (
             "run_seed",
             best.map_or("null".into(), |b| b.candidate.seed.to_string()),
