@@ -1,6 +1,8 @@
 """ConvergeLocality (the paper's LD algorithm, SPEC 4.1) written in Python: a robot that
 sees one point moves toward it, else toward a uniformly random far point, else stays.
-It gives the runs of the built-in converge_locality, bit for bit (python/tests/test_algorithms.py checks it).
+Its goal is the built-in's, every robot within a disc of radius c (the paper's theorem),
+so it gives the runs and verdicts of converge_locality, bit for bit
+(python/tests/test_algorithms.py checks it).
 
     python examples/python/converge_locality.py
 """
@@ -8,7 +10,7 @@ It gives the runs of the built-in converge_locality, bit for bit (python/tests/t
 import monoculus
 
 
-@monoculus.algorithm("py_converge_locality", sensing="ld")
+@monoculus.algorithm("py_converge_locality", sensing="ld", goal="disc")
 def converge_locality(obs, rng):
     toward = obs.sole_visible()
     if toward is not None:

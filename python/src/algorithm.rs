@@ -5,8 +5,8 @@ use std::marker::PhantomData;
 use std::sync::{Arc, Mutex};
 
 use monoculus_core::algorithms::{
-    Algorithm, Decision, Directions, Ld, Model, NoParams, Observation, Ola, Positions, Sensing,
-    StopCriterion,
+    Algorithm, Decision, Directions, Goal, Ld, Model, NoParams, Observation, Ola, Positions,
+    Sensing, StopCriterion,
 };
 use monoculus_core::geometry::Point;
 use monoculus_core::observe::Side;
@@ -21,7 +21,8 @@ use pyo3::types::{PyDict, PyTuple};
 
 use crate::convert::to_table;
 use crate::observation::{
-    DirectionsObservation, Guard, LdObservation, ObsApi, OlaObservation, PositionsObservation, Rng,
+    DirectionsObservation, Guard, LdObservation, ObsApi, OlaObservation, Palette,
+    PositionsObservation, Rng,
 };
 use crate::threads::keep_thread_state;
 
@@ -38,6 +39,7 @@ pub trait PyModel: Sensing + Sized {
         py: Python<'py>,
         guard: Guard,
         params: Py<PyDict>,
+        palette: Palette,
     ) -> PyResult<Bound<'py, PyAny>>;
 }
 
@@ -51,8 +53,17 @@ macro_rules! model {
                 py: Python<'py>,
                 guard: Guard,
                 params: Py<PyDict>,
+                palette: Palette,
             ) -> PyResult<Bound<'py, PyAny>> {
-                Ok(Bound::new(py, $class { guard, params })?.into_any())
+                Ok(Bound::new(
+                    py,
+                    $class {
+                        guard,
+                        params,
+                        palette,
+                    },
+                )?
+                .into_any())
             }
         }
     };
@@ -62,9 +73,55 @@ model!(Ld, LdObservation);
 model!(Ola, OlaObservation);
 model!(Positions, PositionsObservation);
 
-/// A Python algorithm's memory: `memory` floats per robot, zero at the start.
+/// A Python algorithm's memory: `memory` floats per robot, zero at the start, and the
+/// colour it shows (algorithms with lights; 0 at the start).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct PyState(Vec<f64>);
+pub struct PyState(Vec<f64>, u8);
+
+/// A robot's state as an algorithm with lights gets it: the colour it shows, by name
+/// (set it by name or index), and its memory.
+#[pyclass(module = "monoculus")]
+pub struct State {
+    light: usize,
+    palette: Palette,
+    memory: Py<numpy::PyArray1<f64>>,
+}
+
+#[pymethods]
+impl State {
+    /// The name of the colour the robot shows; set it by name or by index.
+    #[getter]
+    fn light(&self) -> String {
+        self.palette.name(self.light).unwrap_or_default()
+    }
+
+    #[setter]
+    fn set_light(&mut self, colour: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.light = self.palette.index(colour)?;
+        Ok(())
+    }
+
+    /// The robot's memory: a numpy array of `memory` floats (empty without), changed
+    /// in place.
+    #[getter]
+    fn memory(&self, py: Python<'_>) -> Py<numpy::PyArray1<f64>> {
+        self.memory.clone_ref(py)
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let memory = self
+            .memory
+            .bind(py)
+            .repr()
+            .map(|r| r.to_string())
+            .unwrap_or_default();
+        let light = pyo3::types::PyString::new(py, &self.light())
+            .repr()
+            .map(|r| r.to_string())
+            .unwrap_or_default();
+        format!("State(light={light}, memory={memory})")
+    }
+}
 
 /// An algorithm whose `decide` is a Python function.
 pub struct PyAlgorithm<M> {
@@ -74,6 +131,9 @@ pub struct PyAlgorithm<M> {
     vectorized: bool,
     params: Py<PyDict>,
     errors: Errors,
+    stop: StopCriterion,
+    goal: Goal,
+    palette: Palette,
     model: PhantomData<fn() -> M>,
 }
 
@@ -130,9 +190,29 @@ impl<M: PyModel> PyAlgorithm<M> {
     ) -> PyResult<Decision<V>> {
         let func = self.func.bind(py);
         let params = self.params.clone_ref(py);
+        let palette = self.palette.clone();
         let out = Guard::during(M::api(obs), rng, |g| -> PyResult<Bound<'_, PyAny>> {
-            let o = M::object(py, g.clone(), params)?;
+            let o = M::object(py, g.clone(), params, palette.clone())?;
             let r = Bound::new(py, Rng { guard: g })?;
+            if !palette.0.is_empty() {
+                let k = self.memory.unwrap_or(0);
+                if state.0.len() != k {
+                    state.0 = vec![0.0; k];
+                }
+                let memory = state.0.clone().into_pyarray(py);
+                let st = Bound::new(
+                    py,
+                    State {
+                        light: usize::from(state.1),
+                        palette: palette.clone(),
+                        memory: memory.clone().unbind(),
+                    },
+                )?;
+                let out = func.call1((o, r, st.clone()))?;
+                state.0 = memory.to_vec()?;
+                state.1 = st.borrow().light as u8;
+                return Ok(out);
+            }
             match self.memory {
                 Some(k) => {
                     if state.0.len() != k {
@@ -160,10 +240,17 @@ impl<M: PyModel> PyAlgorithm<M> {
         let dim = V::DIM;
         let mut offsets = vec![0i64];
         let (mut dirs, mut far) = (Vec::new(), Vec::new());
+        let lit = !self.palette.0.is_empty();
+        let mut colours: Vec<i64> = Vec::new();
         let mut sides = Vec::with_capacity(m * 2 * dim);
         for o in obs {
             let api = M::api(o);
             let (d, f) = api.seen();
+            if lit {
+                // The colours, in the order of the directions of the same look.
+                let (_, lc) = api.lit();
+                colours.extend(lc.into_iter().map(|c| c as i64));
+            }
             dirs.extend(d);
             far.extend(f);
             offsets.push((dirs.len() / dim) as i64);
@@ -208,6 +295,15 @@ impl<M: PyModel> PyAlgorithm<M> {
                 .into_pyarray(py),
         )?;
         batch.set_item("params", self.params.clone_ref(py))?;
+        let own = lit.then(|| {
+            let l: Vec<i64> = states.iter().map(|s| i64::from(s.1)).collect();
+            l.into_pyarray(py)
+        });
+        if let Some(own) = &own {
+            batch.set_item("colours", colours.into_pyarray(py))?;
+            batch.set_item("light", own.clone())?;
+            batch.set_item("lights", self.palette.0.to_vec())?;
+        }
         let state = self.memory.map(|k| {
             let flat: Vec<f64> = states
                 .iter_mut()
@@ -266,6 +362,20 @@ impl<M: PyModel> PyAlgorithm<M> {
                 st.0 = back[i * k..(i + 1) * k].to_vec();
             }
         }
+        if let Some(own) = own {
+            let back = own.to_vec()?;
+            let count = self.palette.0.len() as i64;
+            for (st, l) in states.iter_mut().zip(back) {
+                if !(0..count).contains(&l) {
+                    return Err(PyValueError::new_err(format!(
+                        "{}: batch.light holds {l}, not a light of {}",
+                        self.name,
+                        self.palette.0.join(", ")
+                    )));
+                }
+                st.1 = l as u8;
+            }
+        }
         Ok(directions
             .chunks_exact(dim)
             .zip(stay)
@@ -295,7 +405,23 @@ impl<M: PyModel> Algorithm for PyAlgorithm<M> {
     }
 
     fn keeps_state(&self) -> bool {
-        self.memory.is_some()
+        self.memory.is_some() || !self.palette.0.is_empty()
+    }
+
+    fn light(state: &PyState) -> usize {
+        usize::from(state.1)
+    }
+
+    fn light_names(&self) -> impl ExactSizeIterator<Item = &str> {
+        self.palette.0.iter().map(String::as_str)
+    }
+
+    fn stop(&self) -> StopCriterion {
+        self.stop
+    }
+
+    fn goal(&self) -> Goal {
+        self.goal
     }
 
     fn decides_together(&self) -> bool {
@@ -338,6 +464,8 @@ pub struct Spec {
     vectorized: bool,
     defaults: Py<PyDict>,
     stop: StopCriterion,
+    goal: Goal,
+    palette: Palette,
 }
 
 /// The one of `all` whose `name` is `given`; else an error naming the key `what` and
@@ -353,8 +481,8 @@ fn named<T: Copy>(all: &[T], name: fn(T) -> &'static str, what: &str, given: &st
 }
 
 impl Spec {
-    /// Reads a declaration: a dict with name, sensing, func, memory, vectorized, params
-    /// and stop.
+    /// Reads a declaration: a dict with name, sensing, func, memory, vectorized, params,
+    /// stop, goal and lights.
     pub fn read(d: &Bound<'_, PyDict>) -> PyResult<Spec> {
         let get = |k: &str| -> PyResult<Bound<'_, PyAny>> {
             d.get_item(k)?
@@ -396,6 +524,33 @@ impl Spec {
                 &s.extract::<String>()?,
             )?,
         };
+        let palette = match get("lights")? {
+            l if l.is_none() => Palette::default(),
+            l => {
+                let names: Vec<String> = l
+                    .extract()
+                    .map_err(|_| PyTypeError::new_err("lights: a list of the colours' names"))?;
+                let max = monoculus_core::algorithms::MAX_LIGHTS;
+                if names.len() > max {
+                    return Err(PyValueError::new_err(format!(
+                        "lights: {} colours, at most {max}",
+                        names.len()
+                    )));
+                }
+                for (k, n) in names.iter().enumerate() {
+                    if n.is_empty() || names[..k].contains(n) {
+                        return Err(PyValueError::new_err(format!(
+                            "lights: {n:?}: each colour needs a name of its own"
+                        )));
+                    }
+                }
+                Palette(names.into())
+            }
+        };
+        let goal = match get("goal")? {
+            g if g.is_none() => Goal::Diameter,
+            g => named(&Goal::ALL, Goal::name, "goal", &g.extract::<String>()?)?,
+        };
         Ok(Spec {
             name,
             model,
@@ -404,6 +559,8 @@ impl Spec {
             vectorized: get("vectorized")?.extract()?,
             defaults: defaults.unbind(),
             stop,
+            goal,
+            palette,
         })
     }
 
@@ -444,6 +601,9 @@ impl Spec {
                 vectorized: self.vectorized,
                 params: params.unbind(),
                 errors: errors.clone(),
+                stop: self.stop,
+                goal: self.goal,
+                palette: self.palette.clone(),
                 model: PhantomData,
             };
             Ok((AlgorithmBox::new(algorithm), resolved))

@@ -217,6 +217,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hunt, m)?)?;
     m.add_class::<simulation::Simulation>()?;
     m.add_class::<observation::Rng>()?;
+    m.add_class::<algorithm::State>()?;
     m.add_class::<observation::DirectionsObservation>()?;
     m.add_class::<observation::LdObservation>()?;
     m.add_class::<observation::OlaObservation>()?;

@@ -49,6 +49,11 @@ pub trait ObsApi {
     fn relative_positions(&self) -> Vec<f64> {
         unreachable!("only positions observations have positions")
     }
+    /// Every visible point's direction (flat) and the colour its robot shows, in the
+    /// order of `directions`.
+    fn lit(&self) -> (Vec<f64>, Vec<usize>);
+    fn random_lit(&self, light: usize, rng: &mut Stream) -> Option<Vec<f64>>;
+    fn sees_light(&self, light: usize) -> bool;
 }
 
 fn coords<V: Point>(v: V) -> Vec<f64> {
@@ -75,6 +80,19 @@ macro_rules! common {
         }
         fn directions(&self) -> Vec<f64> {
             flat(Observation::directions(self))
+        }
+        fn lit(&self) -> (Vec<f64>, Vec<usize>) {
+            let l = Observation::lit(self);
+            (
+                flat(l.iter().map(|x| x.direction)),
+                l.iter().map(|x| x.light).collect(),
+            )
+        }
+        fn random_lit(&self, light: usize, rng: &mut Stream) -> Option<Vec<f64>> {
+            Observation::random_lit(self, light, rng).map(coords)
+        }
+        fn sees_light(&self, light: usize) -> bool {
+            Observation::sees_light(self, light)
         }
     };
 }
@@ -187,6 +205,48 @@ fn ended() -> PyErr {
     )
 }
 
+/// The names of a Python algorithm's lights (empty: none), shared by its observations
+/// and states.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Palette(pub Arc<[String]>);
+
+impl Palette {
+    /// The name of colour `k` (None without lights).
+    pub fn name(&self, k: usize) -> Option<String> {
+        self.0.get(k).cloned()
+    }
+
+    /// The index of `colour`: a name of the palette, or an index into it.
+    pub fn index(&self, colour: &Bound<'_, PyAny>) -> PyResult<usize> {
+        let listed = || {
+            if self.0.is_empty() {
+                "the algorithm declares no lights (monoculus.algorithm(..., lights=[...]))"
+                    .to_string()
+            } else {
+                format!("its lights are {}", self.0.join(", "))
+            }
+        };
+        if let Ok(name) = colour.extract::<String>() {
+            return self
+                .0
+                .iter()
+                .position(|n| *n == name)
+                .ok_or_else(|| PyValueError::new_err(format!("light {name:?}: {}", listed())));
+        }
+        match colour.extract::<usize>() {
+            Ok(k) if k < self.0.len().max(1) => Ok(k),
+            Ok(k) => Err(PyValueError::new_err(format!(
+                "light {k}: out of range; {}",
+                listed()
+            ))),
+            Err(_) => Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "a light is a name or an index, not {}",
+                colour.repr().map(|r| r.to_string()).unwrap_or_default()
+            ))),
+        }
+    }
+}
+
 /// The robot's random stream: draw from it, and runs are reproducible whatever the
 /// thread count.
 #[pyclass(module = "monoculus")]
@@ -252,6 +312,7 @@ macro_rules! observation_class {
         pub struct $name {
             pub guard: Guard,
             pub params: Py<PyDict>,
+            pub palette: Palette,
         }
 
         #[pymethods]
@@ -287,6 +348,49 @@ macro_rules! observation_class {
             #[getter]
             fn directions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
                 directions(py, &self.guard)
+            }
+
+            /// The colour each visible point's robot shows (an index into the
+            /// algorithm's lights; 0 without lights), in the order of `directions`.
+            #[getter]
+            fn colours<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<i64>>> {
+                let (_, l) = self.guard.obs()?.lit();
+                Ok(l.into_iter().map(|c| c as i64).collect::<Vec<_>>().into_pyarray(py))
+            }
+
+            /// Every visible point as (direction, the name of the colour its robot
+            /// shows), in the order of `directions` (None for names without lights).
+            fn lit<'py>(&self, py: Python<'py>) -> PyResult<Vec<(Bound<'py, PyArray1<f64>>, Option<String>)>> {
+                let o = self.guard.obs()?;
+                let (d, l) = o.lit();
+                Ok(d.chunks(o.dim())
+                    .zip(l)
+                    .map(|(d, c)| (d.to_vec().into_pyarray(py), self.palette.name(c)))
+                    .collect())
+            }
+
+            /// The direction of a uniformly random visible point whose robot shows
+            /// `colour` (a name of the algorithm's lights, or its index), or None.
+            fn random_lit<'py>(
+                &self,
+                py: Python<'py>,
+                colour: &Bound<'_, PyAny>,
+                rng: &Bound<'_, Rng>,
+            ) -> PyResult<Option<Bound<'py, PyArray1<f64>>>> {
+                let c = self.palette.index(colour)?;
+                Ok(vector(py, self.guard.obs()?.random_lit(c, rng_of(rng).rng()?)))
+            }
+
+            /// Whether a visible point's robot shows `colour` (a name or an index).
+            fn sees_light(&self, colour: &Bound<'_, PyAny>) -> PyResult<bool> {
+                let c = self.palette.index(colour)?;
+                Ok(self.guard.obs()?.sees_light(c))
+            }
+
+            /// The names of the algorithm's lights.
+            #[getter]
+            fn lights(&self) -> Vec<String> {
+                self.palette.0.to_vec()
             }
 
             $($extra)*

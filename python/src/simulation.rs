@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use glam::{DVec2, DVec3};
 use monoculus_core::geometry::Point;
-use monoculus_engine::{EngineError, IndexPoint, RunOutcome};
+use monoculus_engine::{EngineError, IndexPoint, RunOutcome, StoppedBy};
 use monoculus_experiments::Experiment;
 use monoculus_experiments::results::{run_row, runs_header};
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
@@ -201,16 +201,67 @@ impl Simulation {
         )
     }
 
+    /// The colour each robot shows now, by robot: indices into `light_names` (empty
+    /// when the algorithm has no lights; ASYNC: the colour the others see).
+    #[getter]
+    fn lights<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray1<i64>>> {
+        let l = each!(self.sim()?, s => s.lights_now());
+        Ok(l.into_iter()
+            .map(i64::from)
+            .collect::<Vec<_>>()
+            .into_pyarray(py))
+    }
+
+    /// The names of the algorithm's lights (empty: it has none).
+    #[getter]
+    fn light_names(&self) -> Vec<String> {
+        self.exp.cells[self.cell].algorithm().lights().to_vec()
+    }
+
     /// Rounds completed (ASYNC: epochs).
     #[getter]
     fn round(&mut self) -> PyResult<u64> {
         Ok(each!(self.sim()?, s => s.rounds_done()))
     }
 
-    /// Whether the stop criterion holds now.
+    /// Whether a run ending now would have converged: its stop criterion holds and its
+    /// goal holds.
     #[getter]
     fn converged(&mut self) -> PyResult<bool> {
-        Ok(each!(self.sim()?, s => s.criterion_holds_now()))
+        Ok(each!(self.sim()?, s => s.criterion_met_now().is_some() && s.goal_holds_now()))
+    }
+
+    /// Whether the swarm is stuck now: quiescent (the stop criterion holds by
+    /// quiescence) short of its goal.
+    #[getter]
+    fn stuck(&mut self) -> PyResult<bool> {
+        Ok(each!(self.sim()?, s => {
+            s.criterion_met_now() == Some(StoppedBy::Quiescent) && !s.goal_holds_now()
+        }))
+    }
+
+    /// What would end a run now (`quiescent`, `diameter`, `box`), or None.
+    #[getter]
+    fn stopped_by(&mut self) -> PyResult<Option<&'static str>> {
+        Ok(each!(self.sim()?, s => s.criterion_met_now().map(StoppedBy::name)))
+    }
+
+    /// Whether the goal holds now.
+    #[getter]
+    fn goal_met(&mut self) -> PyResult<bool> {
+        Ok(each!(self.sim()?, s => s.goal_holds_now()))
+    }
+
+    /// The goal the run is judged by: `diameter`, `disc` or `box`.
+    #[getter]
+    fn goal(&mut self) -> PyResult<&'static str> {
+        Ok(each!(self.sim()?, s => s.config().stop.goal.name()))
+    }
+
+    /// The radius of the smallest disc (ball) holding the correct robots now.
+    #[getter]
+    fn radius(&mut self) -> PyResult<f64> {
+        Ok(each!(self.sim()?, s => s.enclosing_radius()))
     }
 
     /// The swarm's diameter now (correct robots).

@@ -416,3 +416,121 @@ fn async_and_three_d_replays_open_at_the_time_asked_for() {
         "rotating moves the robots ({differ} pixels differ)"
     );
 }
+
+/// Robots that stop for good after three moves, with a light: `fresh`, then `tired`.
+struct Tired;
+
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Moves(u8);
+
+impl monoculus_core::algorithms::Algorithm for Tired {
+    const NAME: &'static str = "tired";
+    type Sensing = monoculus_core::algorithms::Ld;
+    type Params = monoculus_core::algorithms::NoParams;
+    type State = Moves;
+    const LIGHTS: &'static [&'static str] = &["fresh", "tired"];
+
+    fn new(_: monoculus_core::algorithms::NoParams) -> Result<Self, String> {
+        Ok(Tired)
+    }
+
+    fn light(m: &Moves) -> usize {
+        usize::from(m.0 >= 3)
+    }
+
+    fn decide<V: monoculus_core::geometry::Point>(
+        &self,
+        obs: &monoculus_core::algorithms::Observation<'_, monoculus_core::algorithms::Ld, V>,
+        m: &mut Moves,
+        rng: &mut monoculus_core::rng::Stream,
+    ) -> monoculus_core::algorithms::Decision<V> {
+        use monoculus_core::algorithms::Decision;
+        if m.0 >= 3 {
+            return Decision::Stay;
+        }
+        match obs.sole_visible().or_else(|| obs.random_far(rng)) {
+            Some(toward) => {
+                m.0 += 1;
+                Decision::Step(toward)
+            }
+            None => Decision::Stay,
+        }
+    }
+}
+
+#[test]
+#[ignore = "needs headless Chromium: scripts/browser-ci.sh"]
+fn a_luminous_replay_colours_each_robot_by_its_light_and_shows_what_it_saw() {
+    use monoculus_experiments::{Experiment, Registry};
+    let browser = Browser::new();
+    let tmp = tempfile::tempdir().unwrap();
+    let mut registry = Registry::builtin();
+    registry.register::<Tired>();
+    // SSYNC: the robots tire at different rounds.
+    let config = "name = \"tired\"\n[swarm]\nn = 14\ninit = \"square\"\nside = 12.0\n[algorithm]\nname = \"tired\"\n[scheduler]\nkind = \"ssync\"\np = 0.5\n";
+    let exp = Experiment::parse(config, "tired.toml", tmp.path(), &[], &registry).unwrap();
+    let replay =
+        monoculus_experiments::replay::record(&exp.cells[0], 1, "tired".into(), Default::default())
+            .unwrap();
+    assert_eq!(replay.lights, ["fresh", "tired"]);
+    assert_eq!(replay.verdict, "stuck", "{}", replay.outcome);
+    let page = tmp.path().join("tired.html");
+    monoculus_plot::write_replay_html(&replay, &page).unwrap();
+    // A frame where both colours show.
+    let k = replay
+        .frames
+        .iter()
+        .position(|f| f.lights.contains(&0) && f.lights.contains(&1))
+        .expect("a frame with fresh and tired robots");
+    let (w, h) = (700u32, 500u32);
+    let hash = format!("frame={k}&w={w}&h={h}&robot=0");
+    let body = browser.body(&url(&page, &hash));
+    body.ready("luminous replay");
+    assert_eq!(body.frame, Some(k.to_string()));
+    for needle in [
+        "Lights: ",
+        "fresh",
+        "tired",
+        "shows ",
+        "saw lights: ",
+        "class=\"verdict stuck\"",
+    ] {
+        assert!(body.dom.contains(needle), "the page shows {needle:?}");
+    }
+    // Every robot drawn in its light's colour, where the frame puts it.
+    let mut all: Vec<f32> = replay.start.clone();
+    for f in &replay.frames {
+        all.extend(&f.positions);
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in all.chunks(2) {
+        for a in 0..2 {
+            lo[a] = lo[a].min(f64::from(p[a]));
+            hi[a] = hi[a].max(f64::from(p[a]));
+        }
+    }
+    let s = ((f64::from(w) - 60.0) / (hi[0] - lo[0])).min((f64::from(h) - 60.0) / (hi[1] - lo[1]));
+    let (cx, cy) = ((lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0);
+    let shot = browser.screenshot(
+        &url(&page, &format!("frame={k}&w={w}&h={h}")),
+        w + 340,
+        h + 60,
+    );
+    let frame = &replay.frames[k];
+    let mut right = 0;
+    for (p, &l) in frame.positions.chunks(2).zip(&frame.lights) {
+        let x = (f64::from(w) / 2.0 + (f64::from(p[0]) - cx) * s) as u32;
+        let y = (f64::from(h) / 2.0 - (f64::from(p[1]) - cy) * s) as u32;
+        let (r, g, b) = monoculus_plot::light_colour(usize::from(l));
+        let c = shot.rgb(x, y);
+        if c.iter().zip([r, g, b]).all(|(a, b)| a.abs_diff(b) <= 6) {
+            right += 1;
+        }
+    }
+    // (Robots drawn over one another may hide a few.)
+    assert!(
+        right * 10 >= frame.lights.len() * 8,
+        "{right} of {} robots in their light's colour",
+        frame.lights.len()
+    );
+}

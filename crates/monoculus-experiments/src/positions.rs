@@ -67,17 +67,24 @@ pub fn read_positions(path: &Path) -> Result<PositionsFile, PositionsError> {
 
 /// Parses a positions CSV from text; `name` labels errors.
 pub fn parse_positions(text: &str, name: &str) -> Result<PositionsFile, PositionsError> {
-    parse_rows(text, name, &[]).map(|(file, _)| file)
+    parse_rows(text, name, &[], None).map(|(file, ..)| file)
 }
 
 /// Every robot's position per round, from a `monoculus trace --positions` file
-/// (columns `round`, `robot`, `x`, `y` and, in space, `z`).
+/// (columns `round`, `robot`, `x`, `y`, in space `z`, and for an algorithm with lights
+/// `light`, the name of the colour the robot shows).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TracePositions {
     /// Whether the file has a z column.
     pub has_z: bool,
     /// Per round, in order from round 0: every robot's coordinates, by robot.
     pub rounds: Vec<Vec<[f64; 3]>>,
+    /// The names of the colours in the file, in the order first seen (empty without a
+    /// `light` column).
+    pub light_names: Vec<String>,
+    /// Per round, every robot's colour (an index into `light_names`); empty without a
+    /// `light` column.
+    pub lights: Vec<Vec<u8>>,
 }
 
 /// Reads a trace positions file (see [`TracePositions`]): rounds 0, 1, ... in order,
@@ -93,7 +100,33 @@ pub fn parse_trace_positions(text: &str, name: &str) -> Result<TracePositions, P
         line,
         message,
     };
-    let (file, keys) = parse_rows(text, name, &["round", "robot"])?;
+    let (file, keys, labels) = parse_rows(text, name, &["round", "robot"], Some("light"))?;
+    // Colours by name, numbered in the order first seen (the palette's order when every
+    // colour shows in round 0).
+    let mut light_names: Vec<String> = Vec::new();
+    let mut colours: Vec<u8> = Vec::new();
+    for (label, key) in labels.iter().flatten().zip(&keys) {
+        let k = match light_names.iter().position(|n| n == label) {
+            Some(k) => k,
+            None if label.is_empty() => {
+                return Err(perr(key[2] as usize, "column light: empty".into()));
+            }
+            None if light_names.len() == monoculus_core::algorithms::MAX_LIGHTS => {
+                return Err(perr(
+                    key[2] as usize,
+                    format!(
+                        "column light: more than {} colours",
+                        monoculus_core::algorithms::MAX_LIGHTS
+                    ),
+                ));
+            }
+            None => {
+                light_names.push(label.clone());
+                light_names.len() - 1
+            }
+        };
+        colours.push(k as u8);
+    }
     // The last round listed as many robots as round 0.
     let complete = |rounds: &[Vec<[f64; 3]>], line: usize| match rounds {
         [first, .., last] if last.len() != first.len() => Err(perr(
@@ -137,9 +170,19 @@ pub fn parse_trace_positions(text: &str, name: &str) -> Result<TracePositions, P
         current.push(*row);
     }
     complete(&rounds, keys.last().map_or(1, |k| k[2] as usize))?;
+    let lights = if colours.is_empty() {
+        Vec::new()
+    } else {
+        colours
+            .chunks(rounds[0].len())
+            .map(<[u8]>::to_vec)
+            .collect()
+    };
     Ok(TracePositions {
         has_z: file.has_z,
         rounds,
+        light_names,
+        lights,
     })
 }
 
@@ -336,18 +379,27 @@ pub(crate) fn parse_error(name: &str, line: usize, message: String) -> Positions
 
 /// The rows of a positions CSV, and per row the values of the integer columns `ints`
 /// followed by the row's 1-based line.
+/// The rows of a positions file: the positions, the integer columns `ints` of each row
+/// (with its line), and the text of the optional column `label`, if the file has it.
+type Rows = (PositionsFile, Vec<[u64; 3]>, Option<Vec<String>>);
+
 fn parse_rows(
     text: &str,
     name: &str,
     ints: &[&str],
-) -> Result<(PositionsFile, Vec<[u64; 3]>), PositionsError> {
+    label: Option<&str>,
+) -> Result<Rows, PositionsError> {
     let perr = |line: usize, message: String| parse_error(name, line, message);
     let mut csv = Csv::new(text, name)?;
     let mut required = ints.to_vec();
     required.extend(["x", "y"]);
-    csv.exact(&required, &["z"])?;
+    let mut optional = vec!["z"];
+    optional.extend(label);
+    csv.exact(&required, &optional)?;
     let [xi, yi] = csv.columns(["x", "y"])?;
     let zi = csv.column("z");
+    let li = label.and_then(|l| csv.column(l));
+    let mut labels = li.map(|_| Vec::new());
     let int_cols: Vec<usize> = ints
         .iter()
         .map(|&c| csv.columns([c]).map(|[i]| i))
@@ -384,6 +436,9 @@ fn parse_rows(
             None => 0.0,
         };
         out.push([get(xi, "x")?, get(yi, "y")?, z]);
+        if let (Some(i), Some(l)) = (li, labels.as_mut()) {
+            l.push(record.get(i).unwrap_or("").to_string());
+        }
         let mut key = [0u64, 0, line as u64];
         for (k, (&i, c)) in int_cols.iter().zip(ints).enumerate() {
             let field = record.get(i).unwrap_or("");
@@ -405,6 +460,7 @@ fn parse_rows(
             has_z: zi.is_some(),
         },
         keys,
+        labels,
     ))
 }
 

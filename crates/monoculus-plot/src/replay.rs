@@ -66,6 +66,45 @@ fn list<T>(items: &[T], f: impl Fn(&T) -> String) -> String {
     format!("[{}]", v.join(","))
 }
 
+/// The colour of light `k` of an algorithm's palette, as the replay page and the GIF
+/// draw it: Tableau's ten qualitative colours, then hues a golden angle apart.
+///
+/// ```
+/// assert_eq!(monoculus_plot::light_colour(0), (0x4e, 0x79, 0xa7));
+/// assert_ne!(monoculus_plot::light_colour(10), monoculus_plot::light_colour(11));
+/// ```
+pub fn light_colour(k: usize) -> (u8, u8, u8) {
+    const TEN: [(u8, u8, u8); 10] = [
+        (0x4e, 0x79, 0xa7),
+        (0xf2, 0x8e, 0x2b),
+        (0xe1, 0x57, 0x59),
+        (0x76, 0xb7, 0xb2),
+        (0x59, 0xa1, 0x4f),
+        (0xed, 0xc9, 0x48),
+        (0xb0, 0x7a, 0xa1),
+        (0xff, 0x9d, 0xa7),
+        (0x9c, 0x75, 0x5f),
+        (0xba, 0xb0, 0xac),
+    ];
+    if let Some(&c) = TEN.get(k) {
+        return c;
+    }
+    // HSL with s = 0.6, l = 0.5, the hue turned by the golden angle per colour.
+    let h = (k as f64 * 137.507_764) % 360.0 / 60.0;
+    let (c, l) = (0.6, 0.5);
+    let x = c * (1.0 - (h % 2.0 - 1.0).abs());
+    let (r, g, b) = match h as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let to = |v: f64| ((v + l - c / 2.0) * 255.0).round().clamp(0.0, 255.0) as u8;
+    (to(r), to(g), to(b))
+}
+
 /// The replay's data as the page reads it.
 pub fn replay_json(r: &Replay) -> String {
     let drawn = r.start.len() / r.dim;
@@ -78,7 +117,7 @@ pub fn replay_json(r: &Replay) -> String {
         look_off.push(look_off.last().copied().unwrap_or(0) + l.seen.len() as u32);
     }
     let frames = format!(
-        "{{\"step\":{},\"row\":{},\"pos\":\"{}\",\"state\":\"{}\",\"bits\":\"{}\",\"hull_off\":{},\"hull\":\"{}\"}}",
+        "{{\"step\":{},\"row\":{},\"pos\":\"{}\",\"state\":\"{}\",\"bits\":\"{}\",\"light\":\"{}\",\"hull_off\":{},\"hull\":\"{}\"}}",
         list(&r.frames, |f| f.step.to_string()),
         list(&r.frames, |f| f.row.to_string()),
         f32s(r.frames.iter().flat_map(|f| f.positions.iter().copied())),
@@ -98,6 +137,12 @@ pub fn replay_json(r: &Replay) -> String {
         } else {
             String::new()
         },
+        base64(
+            &r.frames
+                .iter()
+                .flat_map(|f| f.lights.iter().copied())
+                .collect::<Vec<u8>>()
+        ),
         list(&hull_off, u64::to_string),
         f32s(r.frames.iter().flat_map(|f| f.hull.iter().copied())),
     );
@@ -128,10 +173,11 @@ pub fn replay_json(r: &Replay) -> String {
         list(&m.moving, u64::to_string),
     );
     format!(
-        "{{\"title\":{},\"subtitle\":{},\"outcome\":{},\"dim\":{},\"n\":{},\"drawn\":{drawn},\"sample\":{},\"stride\":{},\"ticks\":{},\"model\":{},\"locality\":{},\"termination\":{},\"notes\":{},\"looks_note\":{},\"start\":\"{}\",\"frames\":{frames},\"metrics\":{metrics},\"looks\":{looks}}}",
+        "{{\"title\":{},\"subtitle\":{},\"outcome\":{},\"verdict\":{},\"dim\":{},\"n\":{},\"drawn\":{drawn},\"sample\":{},\"stride\":{},\"ticks\":{},\"model\":{},\"locality\":{},\"termination\":{},\"lights\":{},\"light_colors\":{},\"notes\":{},\"looks_note\":{},\"start\":\"{}\",\"frames\":{frames},\"metrics\":{metrics},\"looks\":{looks}}}",
         text(&r.title),
         text(&r.subtitle),
         text(&r.outcome),
+        text(r.verdict),
         r.dim,
         r.n,
         r.sample,
@@ -140,6 +186,11 @@ pub fn replay_json(r: &Replay) -> String {
         text(r.model),
         number(r.locality),
         r.termination,
+        list(&r.lights, |s| text(s)),
+        list(&(0..r.lights.len()).collect::<Vec<_>>(), |&k| {
+            let (red, green, blue) = light_colour(k);
+            text(&format!("#{red:02x}{green:02x}{blue:02x}"))
+        }),
         list(&r.notes, |s| text(s)),
         r.looks_note.as_deref().map_or("null".to_string(), text),
         f32s(r.start.iter().copied()),
@@ -249,8 +300,40 @@ pub fn write_replay_gif(replay: &Replay, path: &Path, size: (u32, u32)) -> Resul
                 root.draw(&PathElement::new(pts, RGBColor(0x94, 0xa3, 0xb8)))?;
             }
             for (j, p) in f.positions.chunks(dim).enumerate() {
-                let c = colors[usize::from(f.states[j]).min(3)];
-                root.draw(&Circle::new(px(p[0], p[1]), radius, c.filled()))?;
+                let state = colors[usize::from(f.states[j]).min(3)];
+                match f.lights.get(j) {
+                    // As on the page: robots filled with their light, movers ringed.
+                    Some(&l) => {
+                        let (red, green, blue) = light_colour(usize::from(l));
+                        let at = px(p[0], p[1]);
+                        root.draw(&Circle::new(
+                            at,
+                            radius,
+                            RGBColor(red, green, blue).filled(),
+                        ))?;
+                        if f.states[j] == 3 {
+                            root.draw(&Circle::new(at, radius + 1, state.stroke_width(1)))?;
+                        }
+                    }
+                    None => root.draw(&Circle::new(px(p[0], p[1]), radius, state.filled()))?,
+                }
+            }
+            // The lights' legend along the bottom.
+            let mut x = 8;
+            for (k, name) in replay.lights.iter().enumerate().take(12) {
+                let (red, green, blue) = light_colour(k);
+                let y = size.1 as i32 - 12;
+                root.draw(&Circle::new(
+                    (x + 5, y),
+                    5,
+                    RGBColor(red, green, blue).filled(),
+                ))?;
+                root.draw(&Text::new(
+                    name.clone(),
+                    (x + 14, y - 7),
+                    ("sans-serif", 13).into_font().color(&BLACK),
+                ))?;
+                x += 24 + 7 * name.chars().count() as i32;
             }
             let t = replay.metrics.time[f.row];
             let d = replay.metrics.diameter[f.row];

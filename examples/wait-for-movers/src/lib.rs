@@ -23,8 +23,10 @@ impl Algorithm for WaitForMovers {
     type Params = NoParams;
     type State = Light;
     const LIGHTS: &'static [&'static str] = &["resting", "moving"];
-    // ConvergeLocality's guarantees assume c >= 2b; so do this variant's.
+    // ConvergeLocality's guarantees assume c >= 2b, and its goal is every robot within
+    // a disc of radius c; so are this variant's.
     const ASSUMES_C_AT_LEAST_2B: bool = true;
+    const GOAL: Goal = Goal::Disc;
 
     fn new(_: NoParams) -> Result<Self, String> {
         Ok(WaitForMovers)
@@ -47,10 +49,5 @@ impl Algorithm for WaitForMovers {
         let toward = obs.sole_visible().or_else(|| obs.random_far(rng));
         *light = Light(if toward.is_some() { MOVING } else { RESTING });
         toward.map_or(Decision::Stay, Decision::Step)
-    }
-
-    // A replay shows each robot's light.
-    fn shown_bits(state: &Light) -> Option<u8> {
-        Some(state.0 as u8)
     }
 }

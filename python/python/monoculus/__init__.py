@@ -22,12 +22,13 @@ import numpy as np
 import pandas as pd
 
 from . import _native
-from ._native import AlgorithmError, ConfigError, Rng
+from ._native import AlgorithmError, ConfigError, Rng, State
 
 __all__ = [
     "AlgorithmError",
     "ConfigError",
     "Rng",
+    "State",
     "Simulation",
     "algorithm",
     "algorithms",
@@ -47,6 +48,8 @@ def algorithm(
     params: Optional[Mapping[str, Any]] = None,
     vectorized: bool = False,
     stop: Optional[str] = None,
+    goal: Optional[str] = None,
+    lights: Optional[Sequence[str]] = None,
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Registers ``decide`` as the algorithm ``name`` (what ``algorithm.name`` selects).
 
@@ -60,7 +63,21 @@ def algorithm(
     change it in place). ``params`` are the defaults of the algorithm's parameters,
     which a config's ``[algorithm.params]`` may set (and sweep); ``obs.params`` holds
     them. ``stop`` is the default stop criterion (``"quiescent_or_diameter"`` unless
-    given).
+    given: ``"quiescent"``, ``"diameter"``, ``"quiescent_or_diameter"`` or ``"box"``);
+    ``goal`` is what its convergence means (``"diameter"`` unless given: every pair
+    within c; ``"disc"``: every robot within a disc of radius c; ``"box"``: a bounding
+    box of extent at most 2b): a run converges when its stop criterion ends it and its
+    goal holds, and a run that falls quiescent short of its goal is *stuck*.
+
+    With ``lights`` (the names of the colours a robot may show, the luminous-robot
+    model), every robot shows a colour, the first at the start, and sees the colour of
+    each robot it sees: ``obs.lit()`` (pairs of a direction and a colour's name),
+    ``obs.colours`` (indices, in the order of ``obs.directions``),
+    ``obs.random_lit(colour, rng)`` and ``obs.sees_light(colour)`` (a colour by name or
+    index). ``decide(obs, rng, state)`` then gets the robot's :class:`State`: set
+    ``state.light`` (a name or an index) to change the colour it shows, which the others
+    see from the next round (ASYNC: once its Compute ends); ``state.memory`` holds its
+    ``memory`` floats. A robot that would only change its light is not quiescent.
 
     With ``vectorized=True``, ``decide(batch)`` is called once per round (ASYNC: per
     tick) with every activation at once: ``batch.count`` activations,
@@ -68,8 +85,10 @@ def algorithm(
     ``offsets[i]:offsets[i + 1]``), ``batch.directions`` (one row per visible point),
     ``batch.far`` (ld) or ``batch.sides`` (ola: ``count`` rows of low/high per axis),
     ``batch.random`` (``count`` rows of 8 uniform draws from each robot's stream),
-    ``batch.state`` (with ``memory``, ``count`` rows, changed in place) and
-    ``batch.params``; it returns ``(directions, stay)``: an ``(count, dim)`` array and
+    ``batch.state`` (with ``memory``, ``count`` rows, changed in place),
+    with ``lights`` ``batch.colours`` (the colour of each visible point, one per row of
+    ``batch.directions``), ``batch.light`` (each robot's colour, changed in place) and
+    ``batch.lights`` (the names), and ``batch.params``; it returns ``(directions, stay)``: an ``(count, dim)`` array and
     ``count`` booleans.
     """
     declaration = {
@@ -79,6 +98,8 @@ def algorithm(
         "params": dict(params) if params is not None else None,
         "vectorized": bool(vectorized),
         "stop": stop,
+        "goal": goal,
+        "lights": list(lights) if lights is not None else None,
         "func": None,
     }
     _native.check_algorithm(declaration)  # a bad declaration fails here, at its line
@@ -242,14 +263,55 @@ class Simulation:
         return self._sim.positions
 
     @property
+    def lights(self) -> np.ndarray:
+        """The colour each robot shows now, by robot: indices into :attr:`light_names`
+        (an empty array when the algorithm has no lights; ASYNC: the colour the others
+        see, set by a Compute that has ended). ``np.array(sim.light_names)[sim.lights]``
+        names them."""
+        return self._sim.lights
+
+    @property
+    def light_names(self) -> list[str]:
+        """The names of the algorithm's lights (empty: it has none)."""
+        return self._sim.light_names
+
+    @property
     def round(self) -> int:
         """Rounds completed (ASYNC: epochs)."""
         return self._sim.round
 
     @property
     def converged(self) -> bool:
-        """Whether the stop criterion holds now."""
+        """Whether a run ending now would have converged: its stop criterion holds, and
+        its goal (:attr:`goal`) holds."""
         return self._sim.converged
+
+    @property
+    def stuck(self) -> bool:
+        """Whether the swarm is stuck now: no robot would move, and the goal does not
+        hold (a run would end here, not converged)."""
+        return self._sim.stuck
+
+    @property
+    def stopped_by(self) -> Optional[str]:
+        """What would end a run now: ``"quiescent"``, ``"diameter"`` or ``"box"``, or
+        ``None`` while the run would go on."""
+        return self._sim.stopped_by
+
+    @property
+    def goal(self) -> str:
+        """The goal the run is judged by: ``"diameter"``, ``"disc"`` or ``"box"``."""
+        return self._sim.goal
+
+    @property
+    def goal_met(self) -> bool:
+        """Whether the goal holds now."""
+        return self._sim.goal_met
+
+    @property
+    def radius(self) -> float:
+        """The radius of the smallest disc (ball in 3D) holding the robots now."""
+        return self._sim.radius
 
     @property
     def diameter(self) -> float:

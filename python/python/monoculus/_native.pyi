@@ -33,6 +33,19 @@ class Rng:
     def normal(self) -> float:
         """A standard normal draw."""
 
+class State:
+    """A robot's state, as an algorithm with ``lights`` gets it (valid during ``decide``)."""
+
+    @property
+    def light(self) -> str:
+        """The name of the colour the robot shows."""
+    @light.setter
+    def light(self, colour: str | int) -> None:
+        """Shows another colour: a name of the algorithm's lights, or its index."""
+    @property
+    def memory(self) -> npt.NDArray[np.float64]:
+        """The robot's ``memory`` floats (empty without), changed in place."""
+
 class _Observation:
     """What every model senses (valid only during the ``decide`` call it is given to)."""
 
@@ -51,6 +64,19 @@ class _Observation:
         """The number of visible points, counted up to ``limit``."""
     def random_visible(self, rng: Rng) -> Optional[Vector]:
         """The direction of a uniformly random visible point (None if none is)."""
+    @property
+    def colours(self) -> npt.NDArray[np.int64]:
+        """The colour each visible point's robot shows (indices into ``lights``), in the
+        order of ``directions``."""
+    @property
+    def lights(self) -> list[str]:
+        """The names of the algorithm's lights (empty without)."""
+    def lit(self) -> list[tuple[Vector, Optional[str]]]:
+        """Every visible point as (direction, the name of the colour its robot shows)."""
+    def random_lit(self, colour: str | int, rng: Rng) -> Optional[Vector]:
+        """A uniformly random visible point whose robot shows ``colour`` (or None)."""
+    def sees_light(self, colour: str | int) -> bool:
+        """Whether a visible point's robot shows ``colour``."""
 
 class DirectionsObservation(_Observation):
     """The ``directions`` model: unit directions only."""
@@ -101,6 +127,20 @@ class Simulation:
     def round(self) -> int: ...
     @property
     def converged(self) -> bool: ...
+    @property
+    def stuck(self) -> bool: ...
+    @property
+    def stopped_by(self) -> Optional[str]: ...
+    @property
+    def goal(self) -> str: ...
+    @property
+    def goal_met(self) -> bool: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def lights(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def light_names(self) -> list[str]: ...
     @property
     def diameter(self) -> float: ...
     @property

@@ -27,7 +27,8 @@ pub struct TraceArgs {
     #[arg(long)]
     out: PathBuf,
     /// Also write every robot's position per round to `<out stem>.positions.csv`
-    /// (columns round, robot, x, y).
+    /// (columns round, robot, x, y, and light, the colour's name, for an algorithm with
+    /// lights).
     #[arg(long)]
     positions: bool,
     /// Also write the robots activated in each round to FILE (columns round, robot):
@@ -72,14 +73,26 @@ pub fn trace(args: TraceArgs, registry: &monoculus_experiments::Registry) -> Res
         )));
     }
     outln!(
-        "rounds={} converged={} moves={} final_diameter={} hull_growth_rounds={}",
+        "rounds={} converged={} stuck={} stopped_by={} goal={} moves={} final_diameter={} hull_growth_rounds={}",
         outcome.rounds,
         outcome.converged,
+        outcome.stuck(),
+        outcome.stopped_by.name(),
+        outcome.goal.name(),
         outcome.moves,
         num(outcome.final_diameter),
         outcome.hull_growth_rounds
     );
     Ok(())
+}
+
+/// A text field of a CSV row, quoted if it must be.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
 }
 
 /// Runs the cell, writing one row per round (and the positions with `--positions`).
@@ -102,9 +115,12 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
         "round,robots,activated,moving,{measure},diameter,{},wall_ms",
         extents.join(",")
     )?;
+    // An algorithm with lights: each robot's colour, by name, in a column `light`.
+    let palette = cell.algorithm().lights();
     let mut pos_out = if args.positions {
         let mut f = AtomicFile::create(&positions_path(&args.out))?;
-        writeln!(f, "round,robot,{}", axes.join(","))?;
+        let light = if palette.is_empty() { "" } else { ",light" };
+        writeln!(f, "round,robot,{}{light}", axes.join(","))?;
         Some(f)
     } else {
         None
@@ -142,9 +158,16 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
                 wall_ms
             )?;
             if let Some(f) = pos_out.as_mut() {
+                let lights = r.lights();
                 for (i, p) in r.positions.iter().enumerate() {
                     let c: Vec<String> = (0..P::DIM).map(|k| num(p.axis(k))).collect();
-                    writeln!(f, "{},{},{}", r.round, i, c.join(","))?;
+                    match lights.get(i) {
+                        Some(&l) => {
+                            let name = palette.get(usize::from(l)).map_or("", String::as_str);
+                            writeln!(f, "{},{},{},{}", r.round, i, c.join(","), csv_field(name))?
+                        }
+                        None => writeln!(f, "{},{},{}", r.round, i, c.join(","))?,
+                    }
                 }
             }
             if let Some(f) = schedule_out.as_mut() {

@@ -15,7 +15,7 @@
 mod record;
 mod trace;
 
-pub use record::record;
+pub use record::{outcome_line, record, verdict};
 pub use trace::from_trace;
 
 use glam::DVec2;
@@ -85,6 +85,9 @@ pub struct Frame {
     pub states: Vec<u8>,
     /// Termination algorithm: each drawn robot's memory bits (bit `2 * axis + high`).
     pub bits: Vec<u8>,
+    /// Algorithms with lights: the colour each drawn robot shows (an index into
+    /// [`Replay::lights`]), as the Looks of this frame see it; empty otherwise.
+    pub lights: Vec<u8>,
     /// The plane: the convex hull of all robots (not only the drawn ones), x, y per
     /// vertex, counter-clockwise. Empty in space.
     pub hull: Vec<f32>,
@@ -164,6 +167,9 @@ pub struct Replay {
     pub subtitle: String,
     /// The run's outcome, one line.
     pub outcome: String,
+    /// The run's verdict: `converged`, `stuck` or `not converged` (empty for a replay
+    /// of a trace, which holds positions only).
+    pub verdict: &'static str,
     /// 2 or 3.
     pub dim: usize,
     /// Robots in the run.
@@ -180,6 +186,8 @@ pub struct Replay {
     pub locality: f64,
     /// Whether robots carry the termination algorithm's bits.
     pub termination: bool,
+    /// The names of the algorithm's lights (empty: it has none).
+    pub lights: Vec<String>,
     /// Drawn robots' start positions, `dim` per robot.
     pub start: Vec<f32>,
     /// Kept frames, in step order.
@@ -203,6 +211,7 @@ impl Replay {
             title,
             subtitle,
             outcome: String::new(),
+            verdict: "",
             dim: P::DIM,
             n: initial.len(),
             sample: drawn.sample,
@@ -211,6 +220,7 @@ impl Replay {
             model: "positions",
             locality: f64::NAN,
             termination: false,
+            lights: Vec::new(),
             start: drawn.coords(initial),
             frames: Vec::new(),
             metrics: Metrics {
@@ -266,6 +276,14 @@ impl Drawn {
         }
     }
 
+    /// Their colours among `lights` (empty when there are none).
+    fn lights(&self, lights: &[u8]) -> Vec<u8> {
+        if lights.is_empty() {
+            return Vec::new();
+        }
+        self.robots.iter().map(|&i| lights[i]).collect()
+    }
+
     /// Their coordinates in `points`, one after the other.
     fn coords<P: Point>(&self, points: &[P]) -> Vec<f32> {
         let mut out = Vec::with_capacity(self.robots.len() * P::DIM);
@@ -288,7 +306,7 @@ impl Drawn {
 }
 
 fn frame_bytes(f: &Frame) -> usize {
-    4 * f.positions.len() + f.states.len() + f.bits.len() + 4 * f.hull.len()
+    4 * f.positions.len() + f.states.len() + f.bits.len() + f.lights.len() + 4 * f.hull.len()
 }
 
 fn look_bytes(l: &Look) -> usize {

@@ -48,18 +48,19 @@ struct Recorder<P> {
 }
 
 impl<P: IndexPoint> Recorder<P> {
-    fn frame(&mut self, step: usize, now: &[P]) -> Option<usize> {
+    fn frame(&mut self, step: usize, now: &[P], lights: &[u8]) -> Option<usize> {
         step.is_multiple_of(self.replay.stride)
-            .then(|| self.push_frame(step, now))
+            .then(|| self.push_frame(step, now, lights))
     }
 
-    fn push_frame(&mut self, step: usize, now: &[P]) -> usize {
+    fn push_frame(&mut self, step: usize, now: &[P], lights: &[u8]) -> usize {
         let frame = Frame {
             step,
             row: self.replay.metrics.step.len() - 1,
             positions: self.drawn.coords(now),
             states: vec![State::Idle as u8; self.drawn.robots.len()],
             bits: Vec::new(),
+            lights: self.drawn.lights(lights),
             hull: hull_of(now),
         };
         self.bytes += frame_bytes(&frame);
@@ -196,7 +197,7 @@ impl<P: IndexPoint> Recorder<P> {
         self.steps += 1;
         let now = sim.positions_now();
         self.metrics(step, sim, &now);
-        let frame = self.frame(step, &now);
+        let frame = self.frame(step, &now, &sim.lights_now());
         let views = sim.robot_views();
         let row = self.replay.metrics.step.len() - 1;
         if self.replay.ticks {
@@ -226,7 +227,7 @@ impl<P: IndexPoint> Recorder<P> {
     fn finish(&mut self, sim: &Simulation<P>) {
         let last = self.steps - 1;
         if self.replay.frames.last().is_none_or(|f| f.step != last) {
-            self.push_frame(last, &sim.positions_now());
+            self.push_frame(last, &sim.positions_now(), &sim.lights_now());
         }
     }
 }
@@ -270,6 +271,7 @@ fn record_in<P: IndexPoint>(
         model: kind.model().name(),
         locality: config.model.locality,
         termination: kind.shows_bits(),
+        lights: kind.lights().to_vec(),
         looks_note: (!record_looks).then(|| {
             format!(
                 "Looks are recorded for runs of at most {} robots, all drawn",
@@ -298,6 +300,7 @@ fn record_in<P: IndexPoint>(
     rec.finish(&sim);
     let mut replay = rec.replay;
     replay.outcome = outcome_line(&outcome, ticks);
+    replay.verdict = verdict(&outcome);
     if replay.stride > 1 {
         replay.notes.push(format!(
             "every {} {} kept as a frame (and the last); metrics for every {}",
@@ -321,20 +324,54 @@ fn record_in<P: IndexPoint>(
     Ok(replay)
 }
 
-fn outcome_line(o: &RunOutcome, ticks: bool) -> String {
+/// The run's verdict and outcome, one line: `converged after 12 rounds; ...`, `stuck
+/// after 2 epochs: quiescent short of its goal (every robot within a disc of radius c);
+/// ...`, `not converged: max_rounds after 500 rounds; ...`.
+pub fn outcome_line(o: &RunOutcome, ticks: bool) -> String {
+    let verdict = match verdict(o) {
+        "not converged" => format!("not converged ({})", stopped_by_words(o.stopped_by)),
+        v => v.to_string(),
+    };
+    let why = if o.stuck() {
+        format!(": quiescent short of its goal ({})", o.goal.describe())
+    } else {
+        String::new()
+    };
     format!(
-        "{} after {} {}{}; {} moves; final diameter {:.4}",
-        if o.converged {
-            "converged"
-        } else {
-            "not converged"
-        },
+        "{verdict} after {} {}{}{why}; {} moves; final diameter {:.4}",
         o.rounds,
         if ticks { "epochs" } else { "rounds" },
         o.ticks.map_or(String::new(), |t| format!(" ({t} ticks)")),
         o.moves,
         o.final_diameter
     )
+}
+
+/// The verdict of a run: `converged`, `stuck` or `not converged`.
+pub fn verdict(o: &RunOutcome) -> &'static str {
+    if o.converged {
+        "converged"
+    } else if o.stuck() {
+        "stuck"
+    } else {
+        "not converged"
+    }
+}
+
+/// What ended a run that did not converge, in words.
+fn stopped_by_words(s: monoculus_engine::StoppedBy) -> &'static str {
+    use monoculus_engine::StoppedBy;
+    match s {
+        StoppedBy::MaxRounds => "stopped at stop.max_rounds",
+        StoppedBy::ScheduleEnd => "the schedule file ended",
+        StoppedBy::Failure => "the algorithm failed",
+        StoppedBy::Interrupted => "interrupted",
+        // Stopped by its criterion without its goal, not quiescent (a criterion set
+        // by stop.criterion that the goal does not follow from).
+        StoppedBy::Quiescent | StoppedBy::Diameter | StoppedBy::Box => {
+            "its stop criterion held, its goal did not"
+        }
+    }
 }
 
 #[cfg(test)]

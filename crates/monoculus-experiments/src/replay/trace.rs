@@ -27,6 +27,7 @@ fn from_trace_in<P: IndexPoint>(trace: &TracePositions, title: String, limits: L
     let drawn = Drawn::of(n, &limits);
     let mut replay = Replay {
         outcome: format!("{} rounds traced", rounds.len() - 1),
+        lights: trace.light_names.clone(),
         looks_note: Some("a trace holds positions only: no Looks to show".to_string()),
         ..Replay::begin(
             title,
@@ -63,6 +64,7 @@ fn from_trace_in<P: IndexPoint>(trace: &TracePositions, title: String, limits: L
                     })
                     .collect(),
                 bits: Vec::new(),
+                lights: trace.lights.get(k).map_or(Vec::new(), |l| drawn.lights(l)),
                 hull: hull_of(now),
             };
             bytes += frame_bytes(&frame);
