@@ -8,22 +8,10 @@ mod common;
 
 use std::path::Path;
 
-use common::{ok, s};
+use common::{ok, s, summary_field};
 
 fn repo(path: &str) -> String {
     format!("{}/../../{path}", env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The value of `key` in a hunt folder's summary.json.
-fn field(dir: &Path, key: &str) -> String {
-    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    text.lines()
-        .find_map(|l| {
-            l.trim()
-                .strip_prefix(&format!("\"{key}\": "))
-                .map(|v| v.trim_end_matches(',').to_string())
-        })
-        .unwrap_or_else(|| panic!("no {key} in {text}"))
 }
 
 fn hunt(dir: &Path, config: &str, evaluations: Option<u64>) -> std::path::PathBuf {
@@ -54,17 +42,17 @@ fn the_claims_of_the_plane_hold_with_a_small_budget_and_figure_1_is_found() {
         "claims/termination.toml",
     ] {
         let out = hunt(tmp.path(), claim, Some(1500));
-        assert_eq!(field(&out, "found"), "false", "{claim}");
-        assert_eq!(field(&out, "evaluations"), "1500", "{claim}");
+        assert_eq!(summary_field(&out, "found"), "false", "{claim}");
+        assert_eq!(summary_field(&out, "evaluations"), "1500", "{claim}");
     }
     // The stuck claim scores the runs it ends, all quiescent, by their disc: none near c.
     let stuck = tmp.path().join("claims_locality_stuck.toml");
-    let score: f64 = field(&stuck, "score").parse().unwrap();
+    let score: f64 = summary_field(&stuck, "score").parse().unwrap();
     assert!(score > 0.3 && score <= 1.0, "{score}");
-    assert_eq!(field(&stuck, "stopped_by"), "\"quiescent\"");
+    assert_eq!(summary_field(&stuck, "stopped_by"), "\"quiescent\"");
     for figure1 in ["median.toml", "angle_bisector.toml"] {
         let out = hunt(tmp.path(), figure1, None);
-        assert_eq!(field(&out, "found"), "true", "{figure1}");
+        assert_eq!(summary_field(&out, "found"), "true", "{figure1}");
     }
 }
 
@@ -72,14 +60,14 @@ fn the_claims_of_the_plane_hold_with_a_small_budget_and_figure_1_is_found() {
 fn in_space_the_box_grows_above_2b_and_the_termination_variant_gets_stuck() {
     let tmp = tempfile::tempdir().unwrap();
     let out = hunt(tmp.path(), "claims/quadrant_box_3d.toml", None);
-    assert_eq!(field(&out, "found"), "true");
-    assert_eq!(field(&out, "above"), "2");
+    assert_eq!(summary_field(&out, "found"), "true");
+    assert_eq!(summary_field(&out, "above"), "2");
     let replayed = tmp.path().join("box3d");
     ok(&["run", s(&out.join("reproduce.toml")), "--out", s(&replayed)]);
     let out = hunt(tmp.path(), "claims/termination_3d.toml", None);
-    assert_eq!(field(&out, "found"), "true");
-    assert_eq!(field(&out, "stuck"), "true");
-    assert_eq!(field(&out, "goal"), "\"box\"");
+    assert_eq!(summary_field(&out, "found"), "true");
+    assert_eq!(summary_field(&out, "stuck"), "true");
+    assert_eq!(summary_field(&out, "goal"), "\"box\"");
     // Its replay: stuck, quiescent with an axis wider than 2b, every robot terminated.
     let replayed = tmp.path().join("term3d");
     let printed = ok(&["run", s(&out.join("reproduce.toml")), "--out", s(&replayed)]);

@@ -6,24 +6,12 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{fails, monoculus, ok, s, write_config};
+use common::{fails, monoculus, ok, s, summary_field, write_config};
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../..")
         .join(path)
-}
-
-/// The value of `key` in summary.json (its text after the colon).
-fn field(dir: &Path, key: &str) -> String {
-    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    text.lines()
-        .find_map(|l| {
-            l.trim()
-                .strip_prefix(&format!("\"{key}\": "))
-                .map(|v| v.trim_end_matches(',').to_string())
-        })
-        .unwrap_or_else(|| panic!("no {key} in {text}"))
 }
 
 /// The one row of runs.csv of a results folder: column -> value.
@@ -55,9 +43,9 @@ fn median_and_angle_bisector_grow_the_hull_shrunk_to_at_most_six_robots_and_run_
         let dir = tempfile::tempdir().unwrap();
         let (out, replayed) =
             hunt_and_replay(dir.path(), &repo(&format!("configs/hunt/{name}.toml")), &[]);
-        assert_eq!(field(&out, "found"), "true", "{name}");
-        assert_eq!(field(&out, "shrunk"), "true", "{name}");
-        let n: usize = field(&out, "n").parse().unwrap();
+        assert_eq!(summary_field(&out, "found"), "true", "{name}");
+        assert_eq!(summary_field(&out, "shrunk"), "true", "{name}");
+        let n: usize = summary_field(&out, "n").parse().unwrap();
         assert!(n <= 6, "{name}: shrunk to {n} robots");
         for f in ["positions.csv", "reproduce.toml", "replay.html"] {
             assert!(out.join(f).exists(), "{name}: {f}");
@@ -70,7 +58,7 @@ fn median_and_angle_bisector_grow_the_hull_shrunk_to_at_most_six_robots_and_run_
         let row = run_row(&replayed);
         assert_eq!(row["hull_grew"], "true", "{name}: {row:?}");
         assert_eq!(row["n"], n.to_string());
-        assert_eq!(row["rounds"], field(&out, "round"));
+        assert_eq!(row["rounds"], summary_field(&out, "round"));
     }
 }
 
@@ -87,9 +75,9 @@ fn converge_locality_grows_no_hull_and_says_how_much_was_searched() {
         "--set",
         "hunt.evaluations=3000",
     ]);
-    assert_eq!(field(&out, "found"), "false");
-    assert_eq!(field(&out, "evaluations"), "3000");
-    assert_eq!(field(&out, "failures"), "0");
+    assert_eq!(summary_field(&out, "found"), "false");
+    assert_eq!(summary_field(&out, "evaluations"), "3000");
+    assert_eq!(summary_field(&out, "failures"), "0");
     // The closest candidate is written, and replays without growth.
     let replayed = dir.path().join("r");
     ok(&["run", s(&out.join("reproduce.toml")), "--out", s(&replayed)]);
@@ -168,14 +156,14 @@ evaluations = 20000
 "#,
     );
     let (out, replayed) = hunt_and_replay(dir.path(), &config, &[]);
-    assert_eq!(field(&out, "found"), "true");
-    assert_eq!(field(&out, "subsets_searched"), "true");
+    assert_eq!(summary_field(&out, "found"), "true");
+    assert_eq!(summary_field(&out, "subsets_searched"), "true");
     let reproduce = std::fs::read_to_string(out.join("reproduce.toml")).unwrap();
     assert!(reproduce.contains("kind = \"file\""), "{reproduce}");
     assert!(reproduce.contains("schedule.csv"), "{reproduce}");
     let schedule = std::fs::read_to_string(out.join("schedule.csv")).unwrap();
     assert!(schedule.starts_with("round,robot\n"));
-    let round: u64 = field(&out, "round").parse().unwrap();
+    let round: u64 = summary_field(&out, "round").parse().unwrap();
     let last: u64 = schedule
         .lines()
         .skip(1)
@@ -201,13 +189,13 @@ fn slow_reports_the_rounds_that_run_replays() {
             "swarm.side=8",
         ],
     );
-    assert_eq!(field(&out, "found"), "true");
-    assert_eq!(field(&out, "converged"), "true");
+    assert_eq!(summary_field(&out, "found"), "true");
+    assert_eq!(summary_field(&out, "converged"), "true");
     let row = run_row(&replayed);
-    assert_eq!(row["rounds"], field(&out, "rounds"));
+    assert_eq!(row["rounds"], summary_field(&out, "rounds"));
     assert_eq!(row["converged"], "true");
-    let epochs: u64 = field(&out, "epochs").parse().unwrap();
-    let rounds: u64 = field(&out, "rounds").parse().unwrap();
+    let epochs: u64 = summary_field(&out, "epochs").parse().unwrap();
+    let rounds: u64 = summary_field(&out, "rounds").parse().unwrap();
     assert!(
         epochs >= 1 && epochs <= rounds,
         "{epochs} epochs in {rounds} rounds"
@@ -219,11 +207,11 @@ fn an_async_counterexample_carries_its_durations_and_replays_from_them() {
     let dir = tempfile::tempdir().unwrap();
     let config = repo("configs/hunt/stale_view.toml");
     let (out, replayed) = hunt_and_replay(dir.path(), &config, &[]);
-    assert_eq!(field(&out, "found"), "true");
-    assert_eq!(field(&out, "shrunk"), "true");
-    assert_eq!(field(&out, "durations_searched"), "true");
+    assert_eq!(summary_field(&out, "found"), "true");
+    assert_eq!(summary_field(&out, "shrunk"), "true");
+    assert_eq!(summary_field(&out, "durations_searched"), "true");
     // Shrunk to the one long phase that makes the view stale.
-    assert_eq!(field(&out, "durations_given"), "1");
+    assert_eq!(summary_field(&out, "durations_given"), "1");
     let durations = std::fs::read_to_string(out.join("durations.csv")).unwrap();
     assert!(
         durations.starts_with("robot,cycle,phase,ticks\n") && durations.lines().count() == 2,
@@ -258,8 +246,8 @@ fn an_async_counterexample_carries_its_durations_and_replays_from_them() {
         "--set",
         "hunt.durations=false",
     ]);
-    assert_eq!(field(&lockstep, "found"), "false");
-    assert_eq!(field(&lockstep, "durations_given"), "0");
+    assert_eq!(summary_field(&lockstep, "found"), "false");
+    assert_eq!(summary_field(&lockstep, "durations_given"), "0");
     assert!(!lockstep.join("durations.csv").exists());
 }
 
@@ -399,8 +387,8 @@ fn an_interrupted_hunt_keeps_its_best_candidate_marked_not_shrunk() {
         .unwrap();
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130));
-    assert_eq!(field(&out, "shrunk"), "false");
-    assert_eq!(field(&out, "found"), "true");
+    assert_eq!(summary_field(&out, "shrunk"), "false");
+    assert_eq!(summary_field(&out, "found"), "true");
     assert!(out.join("positions.csv").exists());
     assert!(out.join("reproduce.toml").exists());
     // What it kept replays.
@@ -422,5 +410,5 @@ fn the_guide_s_config_hunts() {
     let config = write_config(dir.path(), &block.replace("\"my_rule\"", "\"median\""));
     let out = dir.path().join("h");
     ok(&["hunt", s(&config), "--out", s(&out), "--quiet"]);
-    assert_eq!(field(&out, "found"), "true");
+    assert_eq!(summary_field(&out, "found"), "true");
 }

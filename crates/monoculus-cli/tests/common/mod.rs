@@ -78,3 +78,15 @@ pub fn rows_without_wall(dir: &Path) -> Vec<Vec<String>> {
     rows.sort();
     rows
 }
+
+/// The value of `key` in a hunt folder's summary.json (its text after the colon).
+pub fn summary_field(dir: &Path, key: &str) -> String {
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    text.lines()
+        .find_map(|l| {
+            l.trim()
+                .strip_prefix(&format!("\"{key}\": "))
+                .map(|v| v.trim_end_matches(',').to_string())
+        })
+        .unwrap_or_else(|| panic!("no {key} in {text}"))
+}
