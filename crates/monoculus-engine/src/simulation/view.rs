@@ -134,10 +134,13 @@ impl<P: IndexPoint> Simulation<P> {
 
 /// The colour each robot shows, by robot (empty when the algorithm has no lights).
 pub(super) fn shown_lights<P: IndexPoint, A: Algorithm>(world: &World) -> Vec<u8> {
+    let algorithm = &world.resource::<Rule<A>>().0;
+    if algorithm.light_names().len() == 0 {
+        return Vec::new();
+    }
     if let Some(l) = world.get_resource::<asynchrony::Lights>() {
         return l.shown.clone();
     }
-    let algorithm = &world.resource::<Rule<A>>().0;
     let n = world.resource::<Positions<P>>().points.len();
     match world.try_query::<(&Robot, &MemoryOf<P, A>)>() {
         Some(mut q) => crate::systems::lights_of::<A>(

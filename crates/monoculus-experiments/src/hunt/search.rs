@@ -329,7 +329,7 @@ impl Hunt {
             Property::Stuck => {
                 // How far from its goal the run fell quiescent (above 1: stuck); runs
                 // that did not fall quiescent score 0.
-                let model = &self.cell.sim_config(0).model;
+                let a = &self.cell.spec.algorithm;
                 let goal = outcome.goal;
                 let measure = goal.measure(
                     outcome.final_diameter,
@@ -337,7 +337,7 @@ impl Hunt {
                     &outcome.final_extents,
                 );
                 score = if outcome.stopped_by == monoculus_engine::StoppedBy::Quiescent {
-                    measure / goal.bound(model.step, model.locality)
+                    measure / goal.bound(a.step, a.locality)
                 } else {
                     0.0
                 };
