@@ -567,14 +567,31 @@ fn positions_and_trace_files_are_read_strictly() {
             "x,y,w\n0,0,1\n1,1,1\n",
             "column `w`, which this file does not take",
         ),
-        ("x,y\n0,0\n1,1.2", "does not end with a line break"),
+        // A file cut short is told by its content: a row missing a field, a number cut
+        // where it is no number.
+        ("x,y\n0,0\n1", "p.csv:3: column y: missing"),
+        (
+            "x,y\n0,0\n1,",
+            "p.csv:3: column y: `` is not a finite number",
+        ),
+        (
+            "x,y\n0,0\n1,1.2e",
+            "p.csv:3: column y: `1.2e` is not a finite number",
+        ),
     ] {
         std::fs::write(&pos, text).unwrap();
         let e = fails(&["check", s(&cfg)]);
         assert!(e.contains(want) && e.contains("p.csv"), "{text:?}: {e}");
     }
-    std::fs::write(&pos, "x,y\n0,0\n1,1.25\n").unwrap();
-    ok(&["check", s(&cfg)]);
+    // RFC 4180: the last record need not end with a line break.
+    for text in [
+        "x,y\n0,0\n1,1.25\n",
+        "x,y\n0,0\n1,1.25",
+        "x,y\r\n0,0\r\n1,1.25",
+    ] {
+        std::fs::write(&pos, text).unwrap();
+        ok(&["check", s(&cfg)]);
+    }
     // A trace whose positions file belongs to another run.
     let small = tmp.path().join("s.toml");
     std::fs::write(&small, SHARDED.replace("n = [5, 8]", "n = 8")).unwrap();

@@ -248,8 +248,10 @@ pub fn check_trace_matches(
 /// A CSV with a header, read from `text` (fields trimmed); `name` labels its errors.
 ///
 /// Read strictly: the header names each column once and only the columns the file kind
-/// has ([`Csv::exact`]), and the last line must end with a line break, so that a file cut
-/// short in the middle of a number (`1.25` cut to `1.2`) is refused, not read.
+/// has ([`Csv::exact`]), and every row has a field for every column. As RFC 4180 allows,
+/// the last row need not end with a line break (many tools write files that way): a file
+/// cut short is told by its content, a row missing fields (named by line and column) or a
+/// field that is not a value of its column (`1.2e` is no number), not by its last byte.
 pub(crate) struct Csv<'a> {
     name: &'a str,
     reader: csv::Reader<&'a [u8]>,
@@ -259,13 +261,6 @@ pub(crate) struct Csv<'a> {
 impl<'a> Csv<'a> {
     /// Reads the header.
     pub(crate) fn new(text: &'a str, name: &'a str) -> Result<Self, PositionsError> {
-        if !text.is_empty() && !text.ends_with('\n') {
-            return Err(parse_error(
-                name,
-                text.lines().count(),
-                "the last line does not end with a line break: the file may be cut short (a complete file ends with one)".into(),
-            ));
-        }
         let mut reader = csv::ReaderBuilder::new()
             .trim(csv::Trim::All)
             .from_reader(text.as_bytes());
@@ -358,11 +353,31 @@ impl<'a> Csv<'a> {
         &mut self,
     ) -> impl Iterator<Item = Result<(usize, csv::StringRecord), PositionsError>> + '_ {
         let name = self.name;
+        let headers = &self.headers;
         self.reader.records().map(move |record| {
             let line_of = |p: Option<&csv::Position>| p.map_or(0, |p| p.line() as usize);
             match record {
                 Ok(r) => Ok((line_of(r.position()), r)),
-                Err(e) => Err(parse_error(name, line_of(e.position()), e.to_string())),
+                Err(e) => {
+                    let line = line_of(e.position());
+                    let message = match e.kind() {
+                        // A row with fields missing (a file cut short, a lost comma): the
+                        // first column without a field.
+                        csv::ErrorKind::UnequalLengths { len, .. } if (*len as usize) < headers.len() => {
+                            format!(
+                                "column {}: missing (the row has {len} of the {} fields of the header: is the file cut short?)",
+                                headers.get(*len as usize).unwrap_or(""),
+                                headers.len()
+                            )
+                        }
+                        csv::ErrorKind::UnequalLengths { len, .. } => format!(
+                            "{len} fields, but the header names {} columns",
+                            headers.len()
+                        ),
+                        _ => e.to_string(),
+                    };
+                    Err(parse_error(name, line, message))
+                }
             }
         })
     }
@@ -467,6 +482,48 @@ fn parse_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// RFC 4180: every input CSV may end without a line break; a file cut short is told
+    /// by its content, with its line and column.
+    #[test]
+    fn every_input_csv_may_end_without_a_line_break_and_a_cut_row_is_named() {
+        use crate::durations::parse_durations;
+        use crate::schedule::parse_schedule;
+        let p = parse_positions("x,y\n0,0\n1,1\n5,5", "p.csv").unwrap();
+        assert_eq!(p.rows.len(), 3);
+        assert_eq!(
+            parse_schedule("round,robot\n1,0\n2,1", "s.csv")
+                .unwrap()
+                .list
+                .rounds(),
+            2
+        );
+        let d = parse_durations("robot,cycle,phase,ticks\n0,1,move,5", "d.csv").unwrap();
+        assert_eq!(d.durations.iter().count(), 1);
+        let t = parse_trace_positions("round,robot,x,y\n0,0,0,0\n1,0,1,0", "t.csv").unwrap();
+        assert_eq!(t.rounds.len(), 2);
+        let err = |r: Result<(), PositionsError>| r.unwrap_err().to_string();
+        assert_eq!(
+            err(parse_positions("x,y\n0,0\n5", "p.csv").map(drop)),
+            "p.csv:3: column y: missing (the row has 1 of the 2 fields of the header: is the file cut short?)"
+        );
+        assert!(
+            err(parse_schedule("round,robot\n1,0\n2", "s.csv").map(drop))
+                .starts_with("s.csv:3: column robot: missing")
+        );
+        assert!(
+            err(parse_durations("robot,cycle,phase,ticks\n0,1,mo", "d.csv").map(drop))
+                .starts_with("d.csv:2: column ticks: missing")
+        );
+        assert!(
+            err(parse_positions("x,y\n0,0\n5,1e", "p.csv").map(drop))
+                .starts_with("p.csv:3: column y: `1e` is not a finite number")
+        );
+        assert!(
+            err(parse_positions("x,y\n0,0\n5,1,2", "p.csv").map(drop))
+                .contains("3 fields, but the header names 2 columns")
+        );
+    }
 
     #[test]
     fn reads_and_reports_lines() {
