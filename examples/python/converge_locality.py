@@ -1,4 +1,4 @@
-"""ConvergeLocality (the paper's LD algorithm, SPEC 4.1) written in Python: a robot that
+"""ConvergeLocality (the paper's LD algorithm, docs/model.md) written in Python: a robot that
 sees one point moves toward it, else toward a uniformly random far point, else stays.
 Its goal is the built-in's, every robot within a disc of radius c (the paper's theorem),
 so it gives the runs and verdicts of converge_locality, bit for bit

@@ -581,7 +581,12 @@ impl Spec {
                         message: format!("{} has no parameter of that name", self.name),
                     });
                 }
-                let v = toml_to_py(py, v).map_err(|e| ParamsError {
+                let default = params.get_item(k).ok().flatten();
+                let v = typed_like(default.as_ref(), v).map_err(|message| ParamsError {
+                    key: k.clone(),
+                    message,
+                })?;
+                let v = toml_to_py(py, &v).map_err(|e| ParamsError {
                     key: k.clone(),
                     message: e.to_string(),
                 })?;
@@ -609,6 +614,49 @@ impl Spec {
             Ok((AlgorithmBox::new(algorithm), resolved))
         })
     }
+}
+
+/// `v` as a value of the type of a parameter's `default` (a parameter is typed by its
+/// default): an integer for a float is that float; another type is refused, naming the
+/// kind expected. A default of None takes any value.
+fn typed_like(default: Option<&Bound<'_, PyAny>>, v: &toml::Value) -> Result<toml::Value, String> {
+    use pyo3::types::{PyBool, PyFloat, PyInt, PyList, PyString, PyTuple};
+    let Some(d) = default.filter(|d| !d.is_none()) else {
+        return Ok(v.clone());
+    };
+    let expected = if d.is_instance_of::<PyBool>() {
+        "a boolean"
+    } else if d.is_instance_of::<PyInt>() {
+        "an integer"
+    } else if d.is_instance_of::<PyFloat>() {
+        "a number"
+    } else if d.is_instance_of::<PyString>() {
+        "a string"
+    } else if d.is_instance_of::<PyList>() || d.is_instance_of::<PyTuple>() {
+        "a list"
+    } else if d.is_instance_of::<PyDict>() {
+        "a table"
+    } else {
+        return Ok(v.clone());
+    };
+    let fits = match (expected, v) {
+        ("a number", toml::Value::Integer(i)) => return Ok(toml::Value::Float(*i as f64)),
+        ("a boolean", toml::Value::Boolean(_))
+        | ("an integer", toml::Value::Integer(_))
+        | ("a number", toml::Value::Float(_))
+        | ("a string", toml::Value::String(_))
+        | ("a list", toml::Value::Array(_))
+        | ("a table", toml::Value::Table(_)) => true,
+        _ => false,
+    };
+    if fits {
+        return Ok(v.clone());
+    }
+    let default_text = d.repr().map(|r| r.to_string()).unwrap_or_default();
+    Err(format!(
+        "{} is not {expected}, as its default {default_text} is",
+        monoculus_experiments::shown(&v.to_string())
+    ))
 }
 
 /// A TOML value as a Python value.
@@ -650,6 +698,12 @@ pub fn registry(declarations: &[Bound<'_, PyDict>], errors: &Errors) -> PyResult
             Model::Ola => Arc::new(move |t| s.make::<Ola>(t, &errors)),
             Model::Positions => Arc::new(move |t| s.make::<Positions>(t, &errors)),
         };
+        if Registry::builtin().get(&spec.name).is_some() {
+            return Err(PyValueError::new_err(format!(
+                "{:?} is the name of a built-in algorithm: give yours another",
+                spec.name
+            )));
+        }
         r.try_register_with(&spec.name, spec.model, spec.stop, make)
             .map_err(PyValueError::new_err)?;
     }

@@ -20,11 +20,36 @@ pyo3::create_exception!(
     "A run's algorithm failed: an exception in a Python algorithm, or a decision that breaks the model."
 );
 
-/// `monoculus.ConfigError` with the message (and `file`, `line`, `key`) of the error.
+/// The label of a config given as a dict: it has no file, and no lines.
+pub const DICT: &str = "<dict>";
+
+/// `monoculus.ConfigError` with the message (and `file`, `line`, `key`) of the error,
+/// said where a Python user gave it: a dict config has no file and no lines (the key
+/// alone is named), and overrides come from `set=`, not `--set`.
 pub fn config_error(py: Python<'_>, e: &BadConfig) -> PyErr {
-    let err = ConfigError::new_err(e.to_string());
+    let mut e = e.clone();
+    let mut file = Some(e.file.clone());
+    if e.file == DICT {
+        e.line = None;
+        file = None;
+    } else if e.file == "--set" {
+        e.file = "set".into();
+        file = None;
+    }
+    let text = match &file {
+        Some(_) => e.to_string(),
+        None if e.file == DICT => {
+            let message = monoculus_experiments::short_quotes(&e.message);
+            match &e.key {
+                Some(key) => format!("{key}: {message}"),
+                None => format!("the config dict: {message}"),
+            }
+        }
+        None => e.to_string(),
+    };
+    let err = ConfigError::new_err(monoculus_experiments::one_line(&text));
     let value = err.value(py);
-    let _ = value.setattr("file", e.file.clone());
+    let _ = value.setattr("file", file);
     let _ = value.setattr("line", e.line);
     let _ = value.setattr("key", e.key.clone());
     err
@@ -133,7 +158,7 @@ pub fn experiment(
         let text = toml::to_string(&table)
             .map_err(|e| PyTypeError::new_err(format!("the config dict: {e}")))?;
         let base = std::env::current_dir().unwrap_or_default();
-        return Experiment::parse(&text, "<dict>", &base, &overrides, registry)
+        return Experiment::parse(&text, DICT, &base, &overrides, registry)
             .map(|e| (e, None))
             .map_err(|e| config_error(py, &e));
     }

@@ -80,8 +80,13 @@ pub(crate) fn algorithm_error(py: Python<'_>, message: String, errors: &Errors) 
 
 fn results_error(e: SweepError) -> PyErr {
     match e {
+        // The command line's "use --force" is `force=True` here.
         SweepError::Results(r @ (ResultsError::Mismatch { .. } | ResultsError::Corrupt { .. })) => {
-            ConfigError::new_err(r.to_string())
+            ConfigError::new_err(
+                r.to_string()
+                    .replace("another --out", "another out= folder")
+                    .replace("--force", "force=True"),
+            )
         }
         other => PyRuntimeError::new_err(other.to_string()),
     }
@@ -90,7 +95,7 @@ fn results_error(e: SweepError) -> PyErr {
 /// Runs every cell x seed of `config` into the results folder `out` (resuming it), as
 /// `monoculus run` does; `algorithms` are the Python algorithms declared so far.
 #[pyfunction]
-#[pyo3(signature = (config, set, out, threads, algorithms))]
+#[pyo3(signature = (config, set, out, threads, algorithms, force=false))]
 fn run(
     py: Python<'_>,
     config: &Bound<'_, PyAny>,
@@ -98,6 +103,7 @@ fn run(
     out: PathBuf,
     threads: Option<usize>,
     algorithms: Vec<Bound<'_, PyDict>>,
+    force: bool,
 ) -> PyResult<()> {
     let errors: Errors = Arc::new(Mutex::new(None));
     let registry = algorithm::registry(&algorithms, &errors)?;
@@ -109,6 +115,7 @@ fn run(
     let interrupt = Arc::new(AtomicBool::new(false));
     let options = RunOptions {
         interrupt: Some(interrupt.clone()),
+        force,
         ..RunOptions::default()
     };
     let report: Result<SweepReport, SweepError> = interruptible(py, interrupt, move || {
@@ -117,13 +124,14 @@ fn run(
     let report = report.map_err(results_error)?;
     if let Some((cell, seed, message)) = report.failed.first() {
         let cell = if cell.is_empty() { "-" } else { cell };
+        // The Python layer adds where the failures are (a DataFrame on the exception,
+        // and the results folder's failures.csv when it is kept).
         return Err(algorithm_error(
             py,
             format!(
-                "{} of {} runs failed (recorded in {}; the others are in runs.csv): cell {cell}, seed {seed}: {message}",
+                "{} of {} runs failed: cell {cell}, seed {seed}: {message}",
                 report.failed.len(),
                 report.total,
-                report.failures_path.display()
             ),
             &errors,
         ));
@@ -148,7 +156,7 @@ fn hunt(
     let errors: Errors = Arc::new(Mutex::new(None));
     let registry = algorithm::registry(&algorithms, &errors)?;
     let (exp, path) = convert::experiment(py, config, set, &registry)?;
-    let label = path.map_or_else(|| "<dict>".to_string(), |p| p.display().to_string());
+    let label = path.map_or_else(|| convert::DICT.to_string(), |p| p.display().to_string());
     let picked = match (cell, exp.cells.len()) {
         (Some(k), n) if k < n => k,
         (None, 1) => 0,
@@ -158,8 +166,13 @@ fn hunt(
             )));
         }
         (None, n) => {
+            let whose = if label == convert::DICT {
+                "the config dict".to_string()
+            } else {
+                label
+            };
             return Err(ConfigError::new_err(format!(
-                "{label}: the config has {n} cells; choose one with cell=K or fix the swept keys with set"
+                "{whose}: the config has {n} cells; choose one with cell=K or fix the swept keys with set"
             )));
         }
     };
@@ -189,10 +202,48 @@ fn hunt(
     written.map_err(PyRuntimeError::new_err)
 }
 
-/// Checks a declaration of `monoculus.algorithm` (its sensing, memory, params, stop).
+/// Checks a declaration of `monoculus.algorithm` (its name, sensing, memory, params,
+/// stop, goal, lights): a name a built-in algorithm has, or that is not a plain
+/// snake-case name, is refused here, at the decorator.
 #[pyfunction]
 fn check_algorithm(declaration: &Bound<'_, PyDict>) -> PyResult<()> {
-    Spec::read(declaration).map(|_| ())
+    Spec::read(declaration)?;
+    let errors: Errors = Arc::new(Mutex::new(None));
+    algorithm::registry(std::slice::from_ref(declaration), &errors).map(|_| ())
+}
+
+/// A row of `monoculus.algorithms()`: name, source, sensing, stop, goal, lights.
+type AlgorithmRow = (String, String, String, String, String, Vec<String>);
+
+/// Every algorithm a sweep may name: the built-ins, then the Python `declarations`.
+#[pyfunction]
+fn algorithm_table(declarations: Vec<Bound<'_, PyDict>>) -> PyResult<Vec<AlgorithmRow>> {
+    let errors: Errors = Arc::new(Mutex::new(None));
+    let registry = algorithm::registry(&declarations, &errors)?;
+    let builtin = monoculus_experiments::Registry::builtin();
+    registry
+        .names()
+        .into_iter()
+        .map(|name| {
+            let entry = registry.get(name).expect("a registered name");
+            let (algorithm, _) = entry
+                .make(&toml::Table::new())
+                .map_err(|e| PyValueError::new_err(format!("{name}: {}", e.message)))?;
+            let source = if builtin.get(name).is_some() {
+                "built-in"
+            } else {
+                "python"
+            };
+            Ok((
+                name.to_string(),
+                source.to_string(),
+                entry.model().name().to_string(),
+                algorithm.default_stop().name().to_string(),
+                algorithm.goal().name().to_string(),
+                algorithm.lights().to_vec(),
+            ))
+        })
+        .collect()
 }
 
 /// Silences the default panic message of an algorithm's panic (it becomes the run's
@@ -214,6 +265,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     quiet_algorithm_panics();
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check_algorithm, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithm_table, m)?)?;
     m.add_function(wrap_pyfunction!(hunt, m)?)?;
     m.add_class::<simulation::Simulation>()?;
     m.add_class::<observation::Rng>()?;

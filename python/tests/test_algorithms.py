@@ -157,10 +157,36 @@ def test_an_exception_surfaces_with_its_traceback_robot_and_round(tmp_path):
     assert isinstance(e.value.__cause__, ZeroDivisionError)
     assert e.value.__cause__.__traceback__ is not None
     failures = (tmp_path / "failures.csv").read_text().splitlines()
+    assert f"recorded in {tmp_path / 'failures.csv'}" in message
+    assert len(e.value.failures) == len(failures) - 1
     runs = pd.read_csv(tmp_path / "runs.csv")
     assert len(failures) - 1 + len(runs) == 6 and len(failures) > 1
-    with pytest.raises(monoculus.AlgorithmError, match="py_too_long: decided a step along"):
+    with pytest.raises(monoculus.AlgorithmError, match="py_too_long: decided a step along") as e:
         monoculus.run(config("py_too_long", n=5, seeds=1))
+    # Without out=, the failures are on the exception (the temporary folder is gone).
+    assert "listed in this exception's failures" in str(e.value)
+    failures = e.value.failures
+    assert list(failures.columns) == ["cell", "seed", "algorithm", "robot", "round", "message"]
+    assert len(failures) == 1 and failures["algorithm"][0] == "py_too_long"
+    assert failures["message"][0].startswith("py_too_long: decided a step along")
+
+
+def test_a_parameter_is_typed_by_its_default():
+    with pytest.raises(monoculus.ConfigError) as e:
+        monoculus.run(config("py_patient", n=5, seeds=1), set={"algorithm.params.patience": "x"})
+    assert e.value.key == "algorithm.params.patience"
+    assert "is not an integer, as its default 2 is" in str(e.value)
+    # An integer where the default is a float is that float.
+    monoculus.run(config("py_typed", n=5, seeds=1, stop={"max_rounds": 2}), set={"algorithm.params.weight": 2})
+    assert seen["weight"] == 2.0 and isinstance(seen["weight"], float)
+    with pytest.raises(monoculus.ConfigError, match="algorithm.params.weight: `true` is not a number"):
+        monoculus.run(config("py_typed", n=5, seeds=1), set={"algorithm.params.weight": True})
+
+
+@monoculus.algorithm("py_typed", sensing="ld", params={"weight": 0.5})
+def typed(obs, rng):
+    seen["weight"] = obs.params["weight"]
+    return None
 
 
 def test_an_observation_kept_past_its_activation_refuses_to_answer():
@@ -177,6 +203,29 @@ def test_an_observation_kept_past_its_activation_refuses_to_answer():
         obs.sole_visible()
     with pytest.raises(RuntimeError, match="use it only inside decide"):
         rng.uniform()
+
+
+def test_a_built_in_name_is_refused_at_the_decorator_and_every_algorithm_is_listed():
+    with pytest.raises(ValueError, match='"median" is the name of a built-in algorithm'):
+        monoculus.algorithm("median", sensing="ld")
+    with pytest.raises(ValueError, match="lower-case letters, digits and _"):
+        monoculus.algorithm("My Rule", sensing="ld")
+    table = monoculus.algorithms()
+    assert list(table.columns) == ["name", "source", "sensing", "stop", "goal", "lights"]
+    builtin = table[table["source"] == "built-in"]
+    assert builtin["name"].tolist()[:2] == ["converge_locality", "converge_quadrant"] and len(builtin) == 6
+    row = table.set_index("name").loc["converge_locality"]
+    assert (row["sensing"], row["stop"], row["goal"]) == ("ld", "quiescent_or_diameter", "disc")
+    assert table.set_index("name").loc["py_patient", "source"] == "python"
+
+
+def test_force_starts_a_folder_over(tmp_path):
+    c = config("py_sole", n=6, seeds=2, stop={"max_rounds": 5})
+    monoculus.run(c, out=tmp_path)
+    c["seeds"] = 3
+    with pytest.raises(monoculus.ConfigError, match="force=True"):
+        monoculus.run(c, out=tmp_path)
+    assert len(monoculus.run(c, out=tmp_path, force=True)) == 3
 
 
 def test_declarations_are_checked():

@@ -17,7 +17,8 @@ def test_the_guide_s_code_runs(monkeypatch):
     namespace = {}
     for block in blocks:
         exec(compile(block, "docs/python.md", "exec"), namespace)
-    assert "my_locality" in monoculus.algorithms() and "toward_one" in monoculus.algorithms()
+    names = monoculus.algorithms()["name"].tolist()
+    assert "my_locality" in names and "toward_one" in names
     runs = monoculus.run(
         {"name": "doc", "seeds": 2, "swarm": {"n": 20, "init": "square"}, "algorithm": {"name": "toward_one"}, "stop": {"max_rounds": 5}}
     )

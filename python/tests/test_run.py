@@ -66,5 +66,18 @@ def test_a_bad_config_raises_config_error_naming_file_line_and_key(tmp_path, sma
     with pytest.raises(monoculus.ConfigError, match="is not a registered algorithm"):
         monoculus.run(small)
     small["algorithm"]["name"] = "converge_locality"
-    with pytest.raises(monoculus.ConfigError, match="--set: swarm.n: must be at least 1"):
+    with pytest.raises(monoculus.ConfigError, match="set: swarm.n: must be at least 1"):
         monoculus.run(small, set={"swarm.n": 0})
+
+
+def test_a_dict_configs_errors_name_the_key_and_no_line(small):
+    small["algorithm"]["params"] = {"p_mov": 0.5}
+    with pytest.raises(monoculus.ConfigError) as e:
+        monoculus.run(small)
+    assert str(e.value).startswith("algorithm.params.p_mov: "), str(e.value)
+    assert "<dict>" not in str(e.value)
+    assert (e.value.file, e.value.line, e.value.key) == (None, None, "algorithm.params.p_mov")
+    del small["algorithm"]["params"]
+    with pytest.raises(monoculus.ConfigError) as e:
+        monoculus.run(small, set={"swarm.n": 0})
+    assert str(e.value).startswith("set: swarm.n: must be at least 1"), str(e.value)

@@ -107,3 +107,39 @@ fn every_link_resolves() {
         }
     }
 }
+
+/// The files a user reads below `dir` with one of `endings`, recursively.
+fn user_files(dir: &Path, endings: &[&str], out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            user_files(&p, endings, out);
+        } else if endings.iter().any(|x| p.to_string_lossy().ends_with(x)) {
+            out.push(p);
+        }
+    }
+}
+
+/// What a user reads (the README, the docs, the configs' comments, the examples' pages
+/// and Python) sends them to no document outside the repository: the model is
+/// docs/model.md's, not a specification they do not have.
+#[test]
+fn no_page_or_config_cites_a_document_outside_the_repository() {
+    let root = root();
+    let mut files = vec![root.join("README.md"), root.join("CHANGELOG.md")];
+    files.extend(pages());
+    user_files(&root.join("configs"), &[".toml"], &mut files);
+    user_files(&root.join("examples"), &[".md", ".py", ".toml"], &mut files);
+    user_files(&root.join("python/python"), &[".py", ".pyi"], &mut files);
+    assert!(files.len() > 60, "{}", files.len());
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        for needle in ["SPEC ", "SPEC.md", "../shared"] {
+            assert!(
+                !text.contains(needle),
+                "{} cites {needle:?}: say it with a page of docs/",
+                f.display()
+            );
+        }
+    }
+}

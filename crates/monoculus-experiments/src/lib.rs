@@ -22,6 +22,23 @@ pub use registry::Registry;
 /// The most characters of a value that a message quotes.
 pub const MAX_QUOTED: usize = 100;
 
+/// `n` with its noun, singular or plural (nouns whose plural takes an `s`):
+/// `1 cell`, `3 cells`.
+///
+/// ```
+/// use monoculus_experiments::counted;
+/// assert_eq!(counted(1, "run"), "1 run");
+/// assert_eq!(counted(12, "cell"), "12 cells");
+/// assert_eq!(counted(0, "seed"), "0 seeds");
+/// ```
+pub fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// A value as a message quotes it: in backticks, on one line, and at most
 /// [`MAX_QUOTED`] characters of it (a longer value is cut, with its length said), so
 /// that a huge value in a config or a CSV gives a short message.

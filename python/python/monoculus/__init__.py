@@ -111,9 +111,12 @@ def algorithm(
     return register
 
 
-def algorithms() -> list[str]:
-    """The names of the Python algorithms registered so far."""
-    return list(_REGISTERED)
+def algorithms() -> pd.DataFrame:
+    """Every algorithm a config may name: the built-ins (``source`` ``"built-in"``) and
+    the Python algorithms registered so far (``"python"``), one row each, with their
+    ``sensing``, default ``stop`` criterion, ``goal`` and ``lights``."""
+    rows = _native.algorithm_table(_declared())
+    return pd.DataFrame(rows, columns=["name", "source", "sensing", "stop", "goal", "lights"])
 
 
 def _declared() -> list[dict[str, Any]]:
@@ -137,6 +140,7 @@ def run(
     set: _Set = None,
     out: Optional[Union[str, "os.PathLike[str]"]] = None,
     threads: Optional[int] = None,
+    force: bool = False,
 ) -> pd.DataFrame:
     """Runs every cell x seed of ``config``, as ``monoculus run`` does.
 
@@ -144,18 +148,42 @@ def run(
     keys as ``--set`` does (a dict ``{"swarm.n": [10, 20]}``, a list value sweeping, or
     ``"KEY=VALUE"`` strings). Returns ``runs.csv`` as a DataFrame, row for row what the
     command line writes. With ``out``, the results folder is written there (and resumed
-    the same way); ``threads`` defaults to all cores. A bad config raises
+    the same way; ``force=True`` starts it over, as ``--force`` does, also when it holds
+    another config's results); ``threads`` defaults to all cores. A bad config raises
     :class:`ConfigError`; runs whose algorithm failed raise :class:`AlgorithmError`
     (the other runs are written); Ctrl-C stops the sweep at the end of the running
     rounds, leaving a folder that resumes.
     """
     if out is not None:
         folder = os.fspath(out)
-        _native.run(_config(config), set, folder, threads, _declared())
+        _sweep(config, set, folder, threads, kept=True, force=force)
         return _frame(os.path.join(folder, "runs.csv"))
     with tempfile.TemporaryDirectory(prefix="monoculus-") as folder:
-        _native.run(_config(config), set, folder, threads, _declared())
+        _sweep(config, set, folder, threads, kept=False, force=False)
         return _frame(os.path.join(folder, "runs.csv"))
+
+
+def _sweep(
+    config: _Config, set: _Set, folder: str, threads: Optional[int], kept: bool, force: bool
+) -> None:
+    """Runs the sweep into ``folder``; an :class:`AlgorithmError` carries the failed runs
+    as ``failures`` (read before a temporary folder is removed)."""
+    try:
+        _native.run(_config(config), set, folder, threads, _declared(), force)
+    except AlgorithmError as e:
+        path = os.path.join(folder, "failures.csv")
+        e.failures = (
+            pd.read_csv(path, dtype={"cell": str}, keep_default_na=False)
+            if os.path.exists(path)
+            else pd.DataFrame(columns=["cell", "seed", "algorithm", "robot", "round", "message"])
+        )
+        where = (
+            f"recorded in {path}; the other runs are in {folder}"
+            if kept
+            else "listed in this exception's failures; give out= to keep the other runs"
+        )
+        e.args = (f"{e.args[0]} ({where})",) + e.args[1:]
+        raise
 
 
 def hunt(

@@ -153,7 +153,11 @@ def run(
     out: str,
     threads: Optional[int],
     algorithms: list[dict[str, Any]],
+    force: bool = False,
 ) -> None: ...
+def algorithm_table(
+    algorithms: list[dict[str, Any]],
+) -> list[tuple[str, str, str, str, str, list[str]]]: ...
 def hunt(
     config: Any,
     set: Any,

@@ -127,11 +127,11 @@ pub fn merge(args: MergeArgs, registry: &monoculus_experiments::Registry) -> Res
         )));
     }
     outln!(
-        "{}: merged {} of {} runs from {} shards into {}{}",
+        "{}: merged {} of {} runs from {} into {}{}",
         exp.name,
         report.present,
         report.total,
-        report.shards,
+        monoculus_experiments::counted(report.shards, "shard"),
         args.dir.join("runs.csv").display(),
         if missing > 0 {
             format!(" ({missing} missing: --partial)")

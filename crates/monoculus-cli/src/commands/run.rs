@@ -187,18 +187,18 @@ pub fn run(args: RunArgs, registry: &monoculus_experiments::Registry) -> Result<
     match shard {
         None => {
             outln!(
-                "{}: ran {} runs, {} already done, into {}",
+                "{}: ran {}, {} already done, into {}",
                 exp.name,
-                report.ran,
+                monoculus_experiments::counted(report.ran, "run"),
                 report.skipped,
                 out.display()
             );
             print_summary(&out.join("summary.csv"))?;
         }
         Some(s) => outln!(
-            "{}: shard {s}: ran {} runs, {} already done, into {}; when every shard is done: monoculus merge {}",
+            "{}: shard {s}: ran {}, {} already done, into {}; when every shard is done: monoculus merge {}",
             exp.name,
-            report.ran,
+            monoculus_experiments::counted(report.ran, "run"),
             report.skipped,
             report.rows_path.display(),
             out.display()

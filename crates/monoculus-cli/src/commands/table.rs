@@ -27,7 +27,7 @@ pub struct TableArgs {
 }
 
 pub fn table(args: TableArgs) -> Result<(), Failure> {
-    for dir in &args.dirs {
+    for (k, dir) in args.dirs.iter().enumerate() {
         let path = dir.join("summary.csv");
         if !path.exists() {
             return Err(Failure::Input(format!(
@@ -35,10 +35,14 @@ pub fn table(args: TableArgs) -> Result<(), Failure> {
                 dir.display()
             )));
         }
+        // A blank line between tables, none after the last.
+        if k > 0 {
+            out!("\n");
+        }
         if args.format == Format::Markdown {
             outln!("**{}**\n", dir.display());
         }
-        outln!("{}", render_with(&path, args.format, args.hull)?);
+        out!("{}", render_with(&path, args.format, args.hull)?);
     }
     Ok(())
 }
@@ -78,11 +82,14 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
             .position(|h| h == name)
             .ok_or_else(|| Failure::Input(format!("{}: no column {name}", path.display())))
     };
-    // `missing` and `stuck` are absent from folders written before 0.3: read as 0 there.
+    // `missing`, `stuck` and `rounds_q1` are absent from folders written before 0.3:
+    // read as 0 (NaN) there.
     let stat_names: Vec<&str> = SUMMARY_COLUMNS
         .iter()
         .copied()
-        .filter(|&s| !matches!(s, "missing" | "stuck") || header.iter().any(|h| h == s))
+        .filter(|&s| {
+            !matches!(s, "missing" | "stuck" | "rounds_q1") || header.iter().any(|h| h == s)
+        })
         .collect();
     let stat_idx: Vec<usize> = stat_names
         .iter()
@@ -144,7 +151,7 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
         "converged".to_string(),
         "rho median [q1, q3]".into(),
         "tau median [q1, q3]".into(),
-        "rounds median".into(),
+        "rounds median [q1, q3]".into(),
     ]);
     rows.push(head);
     let names: Vec<String> = header.iter().map(String::from).collect();
@@ -185,7 +192,12 @@ pub fn render_with(path: &Path, format: Format, hull: bool) -> Result<String, Fa
             cell(st.tau_q1, 3),
             cell(st.tau_q3, 3)
         ));
-        row.push(cell(st.rounds_median, 1));
+        row.push(format!(
+            "{} [{}, {}]",
+            cell(st.rounds_median, 1),
+            cell(st.rounds_q1, 1),
+            cell(st.rounds_q3, 1)
+        ));
         if missing > 0 {
             row.push(st.missing.to_string());
         }

@@ -51,6 +51,10 @@ impl CellStats {
     }
 }
 
+fn nan() -> f64 {
+    f64::NAN
+}
+
 /// The q-quantile (0..=1) by linear interpolation between order statistics (numpy's
 /// default, "type 7"); NaN for no values.
 pub fn quantile(values: &[f64], q: f64) -> f64 {
@@ -65,7 +69,7 @@ pub fn quantile(values: &[f64], q: f64) -> f64 {
 }
 
 /// Statistic columns of `summary.csv`.
-pub const SUMMARY_COLUMNS: [&str; 14] = [
+pub const SUMMARY_COLUMNS: [&str; 15] = [
     "runs",
     "converged",
     "stuck",
@@ -76,6 +80,7 @@ pub const SUMMARY_COLUMNS: [&str; 14] = [
     "tau_q1",
     "tau_q3",
     "rounds_median",
+    "rounds_q1",
     "rounds_q3",
     "hull_grew_runs",
     "hull_growth_max_median",
@@ -115,6 +120,9 @@ pub struct SummaryStats {
     /// Median of rounds.
     #[serde(with = "plain")]
     pub rounds_median: f64,
+    /// First quartile of rounds. Absent (NaN) in folders written before 0.3.
+    #[serde(with = "plain", default = "nan")]
+    pub rounds_q1: f64,
     /// Third quartile of rounds.
     #[serde(with = "plain")]
     pub rounds_q3: f64,
@@ -144,6 +152,7 @@ impl SummaryStats {
             tau_q1: quantile(&s.tau, 0.25),
             tau_q3: quantile(&s.tau, 0.75),
             rounds_median: quantile(&s.rounds, 0.5),
+            rounds_q1: quantile(&s.rounds, 0.25),
             rounds_q3: quantile(&s.rounds, 0.75),
             hull_grew_runs: s.hull_grew as u64,
             hull_growth_max_median: quantile(&s.hull_growth, 0.5),
