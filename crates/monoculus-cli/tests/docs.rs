@@ -143,3 +143,34 @@ fn no_page_or_config_cites_a_document_outside_the_repository() {
         }
     }
 }
+
+/// One word, one meaning: every page of prose sends its reader to the glossary, which
+/// defines the words the pages use before their own definitions.
+#[test]
+fn every_page_links_the_glossary_and_the_glossary_defines_the_words() {
+    let model = std::fs::read_to_string(root().join("docs/model.md")).unwrap();
+    let glossary = &model[model.find("## Glossary").expect("a glossary")..];
+    let glossary = &glossary[..glossary[3..].find("\n## ").unwrap()];
+    for word in [
+        "| CL, CQ |",
+        "| d_opt, d_max |",
+        "| tick, epoch |",
+        "| cell |",
+        "| bin |",
+        "| rho, tau |",
+        "| goal, converged, stuck |",
+    ] {
+        assert!(glossary.contains(word), "the glossary defines {word}");
+    }
+    for page in pages() {
+        let name = page.file_name().unwrap().to_string_lossy().into_owned();
+        if name == "model.md" || name.ends_with("-table.md") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&page).unwrap();
+        assert!(
+            text.contains("(model.md#glossary)"),
+            "docs/{name} links the glossary"
+        );
+    }
+}

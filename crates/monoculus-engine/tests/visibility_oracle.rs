@@ -418,17 +418,17 @@ fn a_moving_sight_answers_as_a_fresh_one_with_robots_in_mid_move() {
                 None => PlaneIndex::moving(pts.clone(), one_tick).unwrap(),
             };
             assert_eq!(index.stale_robots(), 0, "{name}: made again, none is stale");
-            let cell = index.cell_size();
-            index.allow(2.0 * cell);
+            let bin = index.bin_size();
+            index.allow(2.0 * bin);
             let (lo, hi) = monoculus_core::metrics::bounds(&pts);
             let mut moves = Vec::new();
             for k in (0..n).filter(|k| k % 3 == 0) {
                 let (from, target) = (pts[k], pts[(k * 7 + 3) % n]);
                 let to = match k % 4 {
                     // Short: within the limit.
-                    0 => from + (target - from).clamp_length_max(1.5 * cell),
+                    0 => from + (target - from).clamp_length_max(1.5 * bin),
                     // A hair: the drift is tiny.
-                    1 => from + (target - from).clamp_length_max(1e-9 * cell),
+                    1 => from + (target - from).clamp_length_max(1e-9 * bin),
                     // Onto another robot, or between two: stale unless near.
                     2 => target,
                     _ => (target + pts[(k * 5 + 1) % n]) * 0.5,

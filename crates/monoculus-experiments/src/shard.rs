@@ -166,7 +166,7 @@ pub fn cpus_from_env(get: &dyn Fn(&str) -> Option<String>) -> Result<Option<usiz
 }
 
 /// The estimated cost of one run of `cell`: n^1.5 per round (every robot walks lines of
-/// about sqrt n cells) times side / step rounds (the swarm's width in steps).
+/// about sqrt n bins of the grid) times side / step rounds (the swarm's width in steps).
 fn run_cost(exp: &Experiment, cell: usize) -> f64 {
     let c = &exp.cells[cell];
     let n = c.n() as f64;

@@ -40,7 +40,7 @@ pub trait Sight<P: Point>: Sync {
 
     /// A few robots near robot `i`, in any order (possibly none): candidates tried first
     /// when counting visible points. Any answer gives the same results; a good one (the
-    /// robots of the surrounding cells) spares a nearest-first scan.
+    /// robots of the surrounding bins) spares a nearest-first scan.
     fn neighbours(&self, _i: usize) -> Vec<usize> {
         Vec::new()
     }

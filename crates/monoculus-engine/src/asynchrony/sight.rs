@@ -22,7 +22,7 @@ use crate::systems::build_sight;
 /// its segment sweeps until the grid's last tick (the segment is known from the Look
 /// that decided it), so nothing is done for it at the ticks in between, and a Look's
 /// queries place it on its segment only where they ask for it ([`TickSight`]). A robot
-/// whose disc would reach farther than the grid's limit (two cells, or 1.25 after a
+/// whose disc would reach farther than the grid's limit (two bins, or 1.25 after a
 /// grid that served long) from where the grid holds it is stale: tested one by one.
 /// The grid is made again at the first tick with Looks after its last tick, or when
 /// too many robots are stale. So a tick costs its events and its Looks, whatever the
@@ -90,18 +90,18 @@ struct Moving<P: IndexPoint> {
     stale_limit: usize,
 }
 
-/// How far from its point a robot of the moving index may go, in cells...
+/// How far from its point a robot of the moving index may go, in bins...
 const LIMIT: f64 = 2.0;
 /// ...or after a grid that served [`LONG_LIFE`] ticks or more: a move at density 1 is
-/// about a cell long, so that a robot's first move since the grid was made fits and a
+/// about a bin long, so that a robot's first move since the grid was made fits and a
 /// second soon makes it stale, and the walks are widened by little more than a move.
-/// Where grids serve a few ticks (a late swarm packed in a core whose cells are far
+/// Where grids serve a few ticks (a late swarm packed in a core whose bins are far
 /// smaller than a move), the longer limit makes them less often (measured in
 /// docs/performance.md).
 const SHORT_LIMIT: f64 = 1.25;
 /// The ticks a grid served beyond which the next has the shorter limit.
 const LONG_LIFE: u64 = 128;
-/// What a cell of drift adds to a Look (its walks visit that much more of the grid on
+/// What a bin of drift adds to a Look (its walks visit that much more of the grid on
 /// either side, and robots in mid-move are candidates more often), in robots' worth of
 /// making the index (measured: about 3,000 instructions a Look against 280 a robot).
 const DRIFT_COST: f64 = 11.0;
@@ -221,7 +221,7 @@ impl<P: IndexPoint> LookSight<P> {
     /// cannot move). Where Looks are many (at the rate since the last index, the drift
     /// a stretch of ticks would take would cost them more than making an index at
     /// every tick with Looks), it serves this tick only, with every robot at its point.
-    /// Otherwise robots may go [`LIMIT`] cells from their points ([`SHORT_LIMIT`] after
+    /// Otherwise robots may go [`LIMIT`] bins from their points ([`SHORT_LIMIT`] after
     /// a grid that served [`LONG_LIFE`] ticks), and it serves until all but half the
     /// stale limit of the robots in mid-move would have gone farther; every robot in
     /// mid-move is given its disc up to that tick.
@@ -250,7 +250,7 @@ impl<P: IndexPoint> LookSight<P> {
             None => P::Index::moving_filled(fill, one_tick)?,
         };
         let stale_limit = stale_limit(n);
-        let limit = limit * index.cell_size();
+        let limit = limit * index.bin_size();
         let last = if one_tick {
             tick
         } else {

@@ -13,14 +13,14 @@ use super::{IndexPoint, SpatialIndex, SpatialOrder};
 ///
 /// - `sees(i, j)`: in the plane, a walk along the segment i -> j through the band grid;
 ///   in space, one R-tree tube query. Then the exact predicate on the few robots found.
-/// - `for_each_within`, `nearest_first`, `for_each_beyond`: the grid's cells in the
-///   plane (rings of cells, cells outside the disc), the tree's queries in space.
+/// - `for_each_within`, `nearest_first`, `for_each_beyond`: the grid's bins in the
+///   plane (rings of bins, bins outside the disc), the tree's queries in space.
 /// - `visible_points(i)` (a full look): the angular sweep in the plane (O(n log n)),
 ///   one tube query per robot in space.
 ///
 /// A sight taken [after](IndexedSight::after) another in which few robots moved keeps
 /// the other's grid: the robots that moved since it was built are stale, skipped in
-/// its cells and tested one by one (late ConvergeQuadrant rounds move a handful of
+/// its bins and tested one by one (late ConvergeQuadrant rounds move a handful of
 /// robots out of thousands). ASYNC's Looks see through a moving index instead
 /// ([`crate::asynchrony::TickSight`]).
 ///

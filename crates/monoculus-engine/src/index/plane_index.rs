@@ -1,5 +1,5 @@
 //! [`PlaneIndex`]: the band grid, for d = 2, kept across snapshots in which few robots
-//! moved (those are [`Stale`]: skipped in its cells and tested one by one), or, under
+//! moved (those are [`Stale`]: skipped in its bins and tested one by one), or, under
 //! ASYNC, [moving](SpatialIndex::moving): robots carry their own reach as they move.
 
 use std::sync::OnceLock;
@@ -31,8 +31,8 @@ pub struct PlaneIndex {
 /// Every robot not stale stays within a disc, stored in the grid in place of its point
 /// (the line filter tests the disc), that lies within `drift` of the point the grid was
 /// built over, its `base`; `drift` is at most `limit`. Each query widens by `drift` the
-/// cells it takes (the walk's bands and cells, a radius, the reach of the rings of
-/// cells) and ends in the same exact test on the current positions, so its answer is
+/// bins it takes (the walk's bands and bins, a radius, the reach of the rings of
+/// bins) and ends in the same exact test on the current positions, so its answer is
 /// that of a grid built afresh (tested with robots in mid-move).
 ///
 /// A stale robot too stays within a disc (beyond the limit), kept in `discs` in the
@@ -218,11 +218,11 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         &self.moving.as_ref().expect("a moving index").base
     }
 
-    fn cell_size(&self) -> f64 {
+    fn bin_size(&self) -> f64 {
         self.grid
             .get()
             .expect("a moving index is built when made")
-            .cell_size()
+            .bin_size()
     }
 
     fn allow(&mut self, limit: f64) {
@@ -261,7 +261,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
             .get_or_init(|| Box::new(SegmentGrid::new_parallel(pos)));
     }
 
-    /// The robots as the grid's horizontal bands hold them: band by band, cell by cell.
+    /// The robots as the grid's horizontal bands hold them: band by band, bin by bin.
     fn order(&self) -> Option<SpatialOrder<'_>> {
         self.grid.get().map(|g| g.order())
     }
@@ -395,7 +395,7 @@ impl SpatialIndex<DVec2> for PlaneIndex {
 
     fn neighbours<L: Locate<DVec2> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize> {
         let p = pos.at(i);
-        // About a dozen robots in the 2 x 3 cells around, at most 32 where a dense core
+        // About a dozen robots in the 2 x 3 bins around, at most 32 where a dense core
         // crowds them (pre-sized: grown one by one, the vector cost a tenth of a round).
         let mut out = Vec::with_capacity(NEIGHBOURS);
         let grid = self.grid(pos);

@@ -39,9 +39,9 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// with the robots where they are at the time. How far from its point a disc may
     /// reach is set by [`SpatialIndex::allow`] (until then, not at all). `None` where
     /// this index cannot follow robots (the R-tree: a new one is made at every tick).
-    /// `one_tick`: it serves one tick only, every robot at its point (so its cells may
+    /// `one_tick`: it serves one tick only, every robot at its point (so its bins may
     /// be sized for the robots they hold, finer in a crowded core; an index that
-    /// follows robots for longer has cells of one size, the drift widening every query
+    /// follows robots for longer has bins of one size, the drift widening every query
     /// being counted in them).
     fn moving(_positions: Vec<P>, _one_tick: bool) -> Option<Self> {
         None
@@ -51,7 +51,7 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// empty vector, made in the memory of `self`, a moving index over as many robots
     /// that is done with: its arrays are emptied and filled again rather than freed and
     /// allocated (under ASYNC the index is made again every few ticks). It may size its
-    /// cells as `self` did while the swarm stays in the box it was made for (the band
+    /// bins as `self` did while the swarm stays in the box it was made for (the band
     /// grid does, for up to 16 indexes in a row): the answers are the same.
     fn moving_again(self, fill: impl FnOnce(&mut Vec<P>), one_tick: bool) -> Option<Self> {
         Self::moving_filled(fill, one_tick)
@@ -65,9 +65,9 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
         Self::moving(positions, one_tick)
     }
 
-    /// Of a [moving](SpatialIndex::moving) index: the side of its cells.
-    fn cell_size(&self) -> f64 {
-        unreachable!("only a moving index has cells to follow robots in")
+    /// Of a [moving](SpatialIndex::moving) index: the side of its bins.
+    fn bin_size(&self) -> f64 {
+        unreachable!("only a moving index has bins to follow robots in")
     }
 
     /// Of a [moving](SpatialIndex::moving) index, before any robot is followed: how far
@@ -137,7 +137,7 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// Whether robot `j` is known to share its point with nobody (`false`: unknown).
     fn alone<L: Locate<P> + ?Sized>(&self, pos: &L, v: &VisionParams, j: usize) -> bool;
 
-    /// Robots in the cells around `i` (empty where the index has no cells).
+    /// Robots in the bins around `i` (empty where the index has no bins).
     fn neighbours<L: Locate<P> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize>;
 
     /// Every point `i` sees, each by the lowest index of its robots (a full look); `sees`

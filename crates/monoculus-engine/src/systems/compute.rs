@@ -298,7 +298,7 @@ fn decide_batched<P: IndexPoint, S: Sight<P>, A: Algorithm>(
 
 /// Decides for the robots of `bits` in parallel, taken in `order`, so that the robots
 /// one thread decides one after the other are neighbours whose queries read the same
-/// cells of the index (at 10^6 robots and more, most of what a decision reads comes
+/// bins of the index (at 10^6 robots and more, most of what a decision reads comes
 /// from memory otherwise). The decisions (and memories) are kept by rank, then handed
 /// to the robots in the order of their entities. The same decisions as
 /// [`decide_batched`]: each depends only on the robot, the round and the sight.

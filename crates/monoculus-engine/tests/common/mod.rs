@@ -34,7 +34,7 @@ pub fn zoo(seed: u64) -> Vec<(&'static str, Vec<DVec2>)> {
             rays.push(dir * k as f64 * 0.7);
         }
     }
-    // A converging swarm's late shape: a dense core, every robot of it in one cell,
+    // A converging swarm's late shape: a dense core, every robot of it in one bin,
     // some co-located, and a few stragglers far out.
     let mut core: Vec<DVec2> = square(150, 0.1, seed)
         .into_iter()

@@ -1,26 +1,26 @@
 //! [`Bands`]: the layout of the grid, robots bucketed in bands across one axis, each band
-//! cut into cells along the other.
+//! cut into bins along the other.
 
 use monoculus_core::geometry::Point;
 
 use super::filter::LANES;
 use super::slots::{clamped, slot};
 
-/// Band height and cell width, in units of the mean spacing sqrt(area / n): thinner
+/// Band height and bin width, in units of the mean spacing sqrt(area / n): thinner
 /// bands test fewer robots per line in more slices (the choice is measured in
 /// docs/performance.md).
 pub(super) const BAND: f64 = 2.0;
-pub(super) const CELL: f64 = 1.0;
+pub(super) const BIN: f64 = 1.0;
 
-/// A box of the plane and the size of its cells: a [`Bands`] layout holds one part per
-/// level, the robots of a level's box (but those of the next, nested one) in its cells.
+/// A box of the plane and the size of its bins: a [`Bands`] layout holds one part per
+/// level, the robots of a level's box (but those of the next, nested one) in its bins.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Level {
     /// The box's lower corner, (x, y).
     pub(super) lo: [f64; 2],
     /// Its upper corner.
     pub(super) hi: [f64; 2],
-    /// The mean spacing its cells are made for.
+    /// The mean spacing its bins are made for.
     pub(super) spacing: f64,
 }
 
@@ -36,8 +36,8 @@ impl Level {
     }
 }
 
-/// One part of a layout: a box cut into bands across the run axis, each cut into cells
-/// along it, its cells numbered from `offset` in the layout's `start`.
+/// One part of a layout: a box cut into bands across the run axis, each cut into bins
+/// along it, its bins numbered from `offset` in the layout's `start`.
 #[derive(Debug)]
 pub(super) struct Part {
     /// The box's smallest coordinate on the run axis and across it.
@@ -47,13 +47,13 @@ pub(super) struct Part {
     pub(super) inv_width: f64,
     pub(super) height: f64,
     pub(super) inv_height: f64,
-    pub(super) cells: usize,
+    pub(super) bins: usize,
     pub(super) bands: usize,
-    /// The last cell and band, as floats.
+    /// The last bin and band, as floats.
     pub(super) last: [f64; 2],
-    /// The number in `start` of the part's first cell.
+    /// The number in `start` of the part's first bin.
     pub(super) offset: usize,
-    /// The mean spacing its cells are made for.
+    /// The mean spacing its bins are made for.
     pub(super) spacing: f64,
 }
 
@@ -61,8 +61,8 @@ impl Part {
     fn new(level: &Level, run: usize, offset: usize) -> Self {
         let across = 1 - run;
         let (lo, hi, spacing) = (level.lo, level.hi, level.spacing);
-        let (width, height) = (CELL * spacing, BAND * spacing);
-        let cells = ((hi[run] - lo[run]) / width) as usize + 1;
+        let (width, height) = (BIN * spacing, BAND * spacing);
+        let bins = ((hi[run] - lo[run]) / width) as usize + 1;
         let bands = ((hi[across] - lo[across]) / height) as usize + 1;
         Part {
             origin: [lo[run], lo[across]],
@@ -70,24 +70,24 @@ impl Part {
             inv_width: 1.0 / width,
             height,
             inv_height: 1.0 / height,
-            cells,
+            bins,
             bands,
-            last: [(cells - 1) as f64, (bands - 1) as f64],
+            last: [(bins - 1) as f64, (bands - 1) as f64],
             offset,
             spacing,
         }
     }
 
-    /// The cell (along the run axis) of coordinate `v`, clamped to the part.
+    /// The bin (along the run axis) of coordinate `v`, clamped to the part.
     #[inline]
-    pub(super) fn cell(&self, v: f64) -> usize {
-        clamped(self.cell_at(v), self.last[0])
+    pub(super) fn bin(&self, v: f64) -> usize {
+        clamped(self.bin_at(v), self.last[0])
     }
 
-    /// Coordinate `v` on the run axis in units of cells from the part's origin,
-    /// unclamped: [`Part::cell`] rounds it down.
+    /// Coordinate `v` on the run axis in units of bins from the part's origin,
+    /// unclamped: [`Part::bin`] rounds it down.
     #[inline]
-    pub(super) fn cell_at(&self, v: f64) -> f64 {
+    pub(super) fn bin_at(&self, v: f64) -> f64 {
         (v - self.origin[0]) * self.inv_width
     }
 
@@ -97,13 +97,13 @@ impl Part {
         slot(v, self.origin[1], self.inv_height, self.last[1])
     }
 
-    /// The number in `start` of the first cell of band `r`.
+    /// The number in `start` of the first bin of band `r`.
     #[inline]
     pub(super) fn row(&self, r: usize) -> usize {
-        self.offset + r * self.cells
+        self.offset + r * self.bins
     }
 
-    /// The lower edge of cell `c` on the run axis and of band `r` across it.
+    /// The lower edge of bin `c` on the run axis and of band `r` across it.
     #[inline]
     pub(super) fn corner(&self, c: usize, r: usize) -> (f64, f64) {
         (
@@ -120,13 +120,13 @@ impl Part {
     }
 }
 
-/// Robots bucketed in bands across one axis, each band cut into cells along the other
-/// (the run axis), in compressed rows: cell `c` of band `r` of a part holds
+/// Robots bucketed in bands across one axis, each band cut into bins along the other
+/// (the run axis), in compressed rows: bin `c` of band `r` of a part holds
 /// `items[start[k]..start[k + 1]]` with `k = part.row(r) + c`, ascending robot indices,
-/// so consecutive cells of one band are one slice.
+/// so consecutive bins of one band are one slice.
 ///
 /// The first part covers the swarm's box. A crowded swarm has more, each over a box
-/// nested in the one before with cells of its own, finer size; a robot is held in the
+/// nested in the one before with bins of its own, finer size; a robot is held in the
 /// innermost part whose box holds it. A query asks every part whose box it meets.
 #[derive(Default)]
 pub(super) struct Bands {
@@ -154,7 +154,7 @@ impl Bands {
     /// each next one nested in the one before), sized for `n` robots, made in the arrays
     /// of `spare` (a layout made before, or an empty one): a grid made again and again
     /// (ASYNC's moving index) neither allocates its arrays nor has the system hand it
-    /// their pages anew each time. [`cells_of_both`] then writes each robot's cell in
+    /// their pages anew each time. [`bins_of_both`] then writes each robot's bin in
     /// `place`, and [`Bands::sort`] files the robots.
     pub(super) fn empty(spare: Bands, n: usize, run: usize, levels: &[Level]) -> Self {
         let Bands {
@@ -170,7 +170,7 @@ impl Bands {
         let mut total = 0;
         for level in levels {
             let part = Part::new(level, run, total);
-            total += part.cells * part.bands;
+            total += part.bins * part.bands;
             parts.push(part);
         }
         refill(&mut start, total + 1, 0);
@@ -194,10 +194,10 @@ impl Bands {
         }
     }
 
-    /// Files the robots of `points` in their cells, which `place` holds (written by
-    /// [`cells_of_both`]); `lo` (x, y) is the swarm's lower corner, origin of the stored
-    /// coordinates. A counting sort with no second array of cells (a grid can have 16n
-    /// of them): each cell's end, then its robots placed from the last one down, which
+    /// Files the robots of `points` in their bins, which `place` holds (written by
+    /// [`bins_of_both`]); `lo` (x, y) is the swarm's lower corner, origin of the stored
+    /// coordinates. A counting sort with no second array of bins (a grid can have 16n
+    /// of them): each bin's end, then its robots placed from the last one down, which
     /// leaves its start there and its robots ascending.
     pub(super) fn sort<P: Point>(&mut self, points: &[P], lo: [f64; 2]) {
         let total = self.start.len() - 1;
@@ -220,10 +220,10 @@ impl Bands {
         }
     }
 
-    /// The robots of band `r` of `part` in cells `c0..=c1`: indices into `items` and
+    /// The robots of band `r` of `part` in bins `c0..=c1`: indices into `items` and
     /// `coords`.
     #[inline]
-    pub(super) fn cells_range(
+    pub(super) fn bins_range(
         &self,
         part: &Part,
         r: usize,
@@ -235,16 +235,16 @@ impl Bands {
     }
 }
 
-/// Each robot's cell in the two layouts of one grid, `rows` (bands running along x) and
+/// Each robot's bin in the two layouts of one grid, `rows` (bands running along x) and
 /// `columns` (along y), [made empty](Bands::empty) over the same `levels`, written in
 /// their `place` (or stretches of it, slot for slot with `points`). A robot is in the
 /// innermost level whose box holds it. The two share their arithmetic: a band is two
-/// cells high (`BAND` is twice `CELL`), so that a robot's band in one layout is its
-/// cell across in the other halved, bit for bit as if computed on its own (tested):
-/// the coordinate in units of bands is that in units of cells halved (a power of two,
-/// exact), as are the last band and last cell, and rounding down commutes with the
+/// bins high (`BAND` is twice `BIN`), so that a robot's band in one layout is its
+/// bin across in the other halved, bit for bit as if computed on its own (tested):
+/// the coordinate in units of bands is that in units of bins halved (a power of two,
+/// exact), as are the last band and last bin, and rounding down commutes with the
 /// halving.
-pub(super) fn cells_of_both<P: Point>(
+pub(super) fn bins_of_both<P: Point>(
     rows: &mut [u32],
     columns: &mut [u32],
     points: &[P],
@@ -252,17 +252,17 @@ pub(super) fn cells_of_both<P: Point>(
     column_parts: &[Part],
     levels: &[Level],
 ) {
-    const { assert!(BAND == 2.0 * CELL) };
-    let cells = |level: usize, p: &P| {
+    const { assert!(BAND == 2.0 * BIN) };
+    let bins = |level: usize, p: &P| {
         let (r, c) = (&row_parts[level], &column_parts[level]);
-        // Cells along x and along y, in each layout's part.
-        let (cx, cy) = (r.cell(p.axis(0)), c.cell(p.axis(1)));
+        // Bins along x and along y, in each layout's part.
+        let (cx, cy) = (r.bin(p.axis(0)), c.bin(p.axis(1)));
         ((r.row(cy >> 1) + cx) as u32, (c.row(cx >> 1) + cy) as u32)
     };
     let slots = rows.iter_mut().zip(columns.iter_mut()).zip(points);
     if let [_] = levels {
         for ((a, b), p) in slots {
-            (*a, *b) = cells(0, p);
+            (*a, *b) = bins(0, p);
         }
     } else {
         for ((a, b), p) in slots {
@@ -270,7 +270,7 @@ pub(super) fn cells_of_both<P: Point>(
                 .iter()
                 .rposition(|l| l.holds(p))
                 .map_or(0, |k| k + 1);
-            (*a, *b) = cells(level, p);
+            (*a, *b) = bins(level, p);
         }
     }
 }

@@ -7,7 +7,7 @@ use super::SegmentGrid;
 
 impl SegmentGrid {
     /// Calls `f` with every robot farther than `radius` from robot `i`: per band of each
-    /// part, the cells wholly within the disc are skipped. O(bands + robots beyond +
+    /// part, the bins wholly within the disc are skipped. O(bands + robots beyond +
     /// boundary).
     /// Every robot is within `drift` of the point the grid was built over.
     pub fn for_each_beyond<P: Point, L: Locate<P> + ?Sized>(
@@ -32,7 +32,7 @@ impl SegmentGrid {
             }
         };
         for part in &g.parts {
-            // Room for the rounding of cell edges and of robots' cells.
+            // Room for the rounding of bin edges and of robots' bins.
             let room = 1e-9 * (x.abs() + y.abs() + part.spacing);
             for r in 0..part.bands {
                 let (_, y0) = part.corner(0, r);
@@ -44,17 +44,17 @@ impl SegmentGrid {
                 } else {
                     -1.0
                 };
-                let last = part.cells - 1;
+                let last = part.bins - 1;
                 if inner <= 0.0 {
-                    emit(g.cells_range(part, r, 0, last));
+                    emit(g.bins_range(part, r, 0, last));
                     continue;
                 }
-                let (ca, cb) = (part.cell(x - inner), part.cell(x + inner));
+                let (ca, cb) = (part.bin(x - inner), part.bin(x + inner));
                 if cb <= ca + 1 {
-                    emit(g.cells_range(part, r, 0, last));
+                    emit(g.bins_range(part, r, 0, last));
                 } else {
-                    emit(g.cells_range(part, r, 0, ca));
-                    emit(g.cells_range(part, r, cb, last));
+                    emit(g.bins_range(part, r, 0, ca));
+                    emit(g.bins_range(part, r, cb, last));
                 }
             }
         }

@@ -1,5 +1,5 @@
-//! [`Crossing`]: the cells a line of sight's walk reads in each band of a part, found
-//! band after band by one multiply-add in units of the part's cells.
+//! [`Crossing`]: the bins a line of sight's walk reads in each band of a part, found
+//! band after band by one multiply-add in units of the part's bins.
 
 use super::bands::Part;
 use super::prefetch::prefetch;
@@ -33,54 +33,54 @@ impl Track {
     }
 }
 
-/// The cells of each band of one part that a walk reads: those meeting the stretch of
+/// The bins of each band of one part that a walk reads: those meeting the stretch of
 /// the run axis where the line, widened, crosses the band (a line across several
 /// bands), within the line's extent on that axis.
 ///
 /// The stretch of band `r` lies between the run-axis coordinates
 /// `pa + (o_b + r h -+ tol_b - pb) da / db` (the band's widened edges), each an affine
-/// function of `r`: kept in units of cells, `x0 + (r - r0) step` and that plus `width`,
+/// function of `r`: kept in units of bins, `x0 + (r - r0) step` and that plus `width`,
 /// one multiply-add a band rather than both edges computed afresh in coordinates and
-/// then turned into cells (measured in docs/performance.md).
+/// then turned into bins (measured in docs/performance.md).
 ///
 /// Exactness. Computed band by band, the lower bound is `pa + min(t0, t1) - room` with
 /// `(t0, t1)` from [`Track::edges`] and `room = 64 eps (scale + |t0| + |t1|)` for the
 /// rounding of those terms, and a blocker's coordinate is never below it (the walk's
-/// bound, tested with blockers at the cone's edge next to cell corners); a coordinate
-/// turned into cells by the rounded operations of `Part::cell` keeps its order. So the
-/// walk misses no blocker if its bound in cells is never above that bound turned into
-/// cells. Both are the same real number computed two ways from terms bounded by `m`
-/// (below, in cells), each way with an error of at most 16 u m (u = 2^-53, about a
+/// bound, tested with blockers at the cone's edge next to bin corners); a coordinate
+/// turned into bins by the rounded operations of `Part::bin` keeps its order. So the
+/// walk misses no blocker if its bound in bins is never above that bound turned into
+/// bins. Both are the same real number computed two ways from terms bounded by `m`
+/// (below, in bins), each way with an error of at most 16 u m (u = 2^-53, about a
 /// dozen roundings): the stretch is widened by 64 eps m = 128 u m on either side, and
 /// `room` taken at its largest over the bands (the ends). The same holds of the upper
-/// bound. A NaN or an infinite bound leaves the line's extent alone (every cell of it).
+/// bound. A NaN or an infinite bound leaves the line's extent alone (every bin of it).
 pub(super) struct Crossing {
     /// The first band walked.
     r0: usize,
     /// Whether the line crosses several bands, and is not too close to the run axis
     /// for its crossings to be computed (else the extent alone bounds each band).
     along: bool,
-    /// The lower widened edge's crossing of band `r0`, in cells...
+    /// The lower widened edge's crossing of band `r0`, in bins...
     x0: f64,
     /// ...and how far it moves a band.
     step: f64,
     /// The stretch of a band from that crossing: `[x + lo_off, x + hi_off]`.
     lo_off: f64,
     hi_off: f64,
-    /// The line's extent on the run axis, in cells.
+    /// The line's extent on the run axis, in bins.
     lo: f64,
     hi: f64,
-    /// Of a nested part, the top of its box in cells (a band crossed beside the box
+    /// Of a nested part, the top of its box in bins (a band crossed beside the box
     /// has no robot near the line); of the first, infinity.
     top: f64,
     /// Whether the part is nested (robots lie in its box).
     nested: bool,
-    /// The last cell.
+    /// The last bin.
     last: f64,
 }
 
 impl Crossing {
-    /// The cells a walk reads in bands `r0..=r1` of `part` for a line whose
+    /// The bins a walk reads in bands `r0..=r1` of `part` for a line whose
     /// candidates lie within `[a_lo, a_hi]` on the run axis; `line` if the walk
     /// narrows each band to where the line crosses it.
     #[inline]
@@ -91,9 +91,9 @@ impl Crossing {
         line: Option<&Track>,
         nested: bool,
     ) -> Self {
-        // As `Part::cell` takes a coordinate before clamping, so that a robot at
-        // `v >= a_lo` has a cell coordinate at least this one's.
-        let cells = |v: f64| part.cell_at(v);
+        // As `Part::bin` takes a coordinate before clamping, so that a robot at
+        // `v >= a_lo` has a bin coordinate at least this one's.
+        let bins = |v: f64| part.bin_at(v);
         let mut crossing = Crossing {
             r0,
             along: false,
@@ -101,9 +101,9 @@ impl Crossing {
             step: 0.0,
             lo_off: 0.0,
             hi_off: 0.0,
-            lo: cells(a_lo),
-            hi: cells(a_hi),
-            top: cells(part.top[0]),
+            lo: bins(a_lo),
+            hi: bins(a_hi),
+            top: bins(part.top[0]),
             nested,
             last: part.last[0],
         };
@@ -117,7 +117,7 @@ impl Crossing {
         let room = 64.0 * f64::EPSILON * (line.scale + 2.0 * most) * (1.0 + 1e-9);
         let iw = part.inv_width;
         let is = line.inv_slope.abs();
-        // Every term of either computation, in cells.
+        // Every term of either computation, in bins.
         let m = (is
             * (part.origin[1].abs() + float(r1 + 1) * part.height + line.tol_b + line.pb.abs())
             + line.pa.abs()
@@ -128,17 +128,17 @@ impl Crossing {
         let room = room * iw * (1.0 + 1e-9) + 64.0 * f64::EPSILON * m;
         let width = (part.height + 2.0 * line.tol_b) * line.inv_slope * iw;
         crossing.along = true;
-        crossing.x0 = cells(line.pa + t0);
+        crossing.x0 = bins(line.pa + t0);
         crossing.step = part.height * line.inv_slope * iw;
         crossing.lo_off = width.min(0.0) - room;
         crossing.hi_off = width.max(0.0) + room;
         crossing
     }
 
-    /// The first and last cell the walk reads in band `r`, if any; `FLOOR` where
-    /// rounding down is one instruction (see [`Crossing::cell`]).
+    /// The first and last bin the walk reads in band `r`, if any; `FLOOR` where
+    /// rounding down is one instruction (see [`Crossing::bin`]).
     #[inline(always)]
-    pub(super) fn cells<const FLOOR: bool>(&self, r: usize) -> Option<(usize, usize)> {
+    pub(super) fn bins<const FLOOR: bool>(&self, r: usize) -> Option<(usize, usize)> {
         let (mut lo, mut hi) = (self.lo, self.hi);
         if self.along {
             let x = self.x0 + float(r - self.r0) * self.step;
@@ -147,32 +147,32 @@ impl Crossing {
         }
         let beside = self.nested && ((hi < 0.0) | (lo > self.top));
         if lo <= hi && !beside {
-            Some((self.cell::<FLOOR>(lo), self.cell::<FLOOR>(hi)))
+            Some((self.bin::<FLOOR>(lo), self.bin::<FLOOR>(hi)))
         } else {
             None
         }
     }
 
-    /// The cell of cell coordinate `k`, clamped to the part (a NaN gives 0): the same
+    /// The bin of bin coordinate `k`, clamped to the part (a NaN gives 0): the same
     /// as [`clamped`]. With `FLOOR` (the walk compiled for AVX2, where rounding down is
     /// one instruction) without the saturating conversion's tests, the value being in
     /// range here; else (rounding down a call) through that conversion.
     #[inline(always)]
-    fn cell<const FLOOR: bool>(&self, k: f64) -> usize {
+    fn bin<const FLOOR: bool>(&self, k: f64) -> usize {
         if !FLOOR {
             return clamped(k, self.last);
         }
         // Exact below 2^52: `whole + 2^52` holds `whole` in the low bits of its mantissa.
         const SHIFT: f64 = 4_503_599_627_370_496.0;
         let k = within(k, self.last);
-        let cell = ((k.floor() + SHIFT).to_bits() - SHIFT.to_bits()) as usize;
-        debug_assert_eq!(cell, clamped(k, self.last));
-        cell
+        let bin = ((k.floor() + SHIFT).to_bits() - SHIFT.to_bits()) as usize;
+        debug_assert_eq!(bin, clamped(k, self.last));
+        bin
     }
 
-    /// Lays out the next bands from `*r` on (up to `r1`): for each the cells the walk
+    /// Lays out the next bands from `*r` on (up to `r1`): for each the bins the walk
     /// reads, as their first and one-past-last numbers in `start` (whose entries are
-    /// asked for), until `cells` is full; how many.
+    /// asked for), until `bins` is full; how many.
     #[inline(always)]
     pub(super) fn batch<const FLOOR: bool>(
         &self,
@@ -180,15 +180,15 @@ impl Crossing {
         r1: usize,
         part: &Part,
         start: &[u32],
-        cells: &mut [(usize, usize)],
+        bins: &mut [(usize, usize)],
     ) -> usize {
         let mut m = 0;
-        while *r <= r1 && m < cells.len() {
-            if let Some((c0, c1)) = self.cells::<FLOOR>(*r) {
+        while *r <= r1 && m < bins.len() {
+            if let Some((c0, c1)) = self.bins::<FLOOR>(*r) {
                 let row = part.row(*r);
-                cells[m] = (row + c0, row + c1 + 1);
-                prefetch(&start[cells[m].0]);
-                prefetch(&start[cells[m].1]);
+                bins[m] = (row + c0, row + c1 + 1);
+                prefetch(&start[bins[m].0]);
+                prefetch(&start[bins[m].1]);
                 m += 1;
             }
             *r += 1;

@@ -1,10 +1,10 @@
 //! [`SegmentGrid`]: robots bucketed for line-of-sight queries in the plane.
 //!
 //! A line of sight across the swarm is long and thin: an R-tree's overlapping boxes make
-//! such a query visit many nodes, and a plain grid costs one random access per cell. So
+//! such a query visit many nodes, and a plain grid costs one random access per bin. So
 //! the robots are stored twice, in horizontal and in vertical bands, each band cut into
-//! cells stored one after the other: a line is walked in the bands along its major axis,
-//! and the cells it crosses in one band are one contiguous slice, read in one pass. The
+//! bins stored one after the other: a line is walked in the bands along its major axis,
+//! and the bins it crosses in one band are one contiguous slice, read in one pass. The
 //! measurements behind each choice are in docs/performance.md.
 //!
 //! Candidates pass a cheap perpendicular-distance filter before the exact predicate.
@@ -14,7 +14,7 @@
 //! blocking cone across band edges).
 //!
 //! The grid in files: `bands` (the layout), the line-of-sight walk (`walk`), the
-//! cells it reads in each band (`crossing`) and its single-precision filter
+//! bins it reads in each band (`crossing`) and its single-precision filter
 //! (`filter`), radius queries (`near`), the nearest-first iterator (`nearest`), robots
 //! beyond a radius (`beyond`), the set of robots that moved since the grid was built
 //! (`stale`), and the prefetch hint.
@@ -36,25 +36,25 @@ use monoculus_core::geometry::Point;
 
 use super::SpatialOrder;
 
-use bands::{BAND, Bands, CELL, Level, cells_of_both};
+use bands::{BAND, BIN, Bands, Level, bins_of_both};
 pub(crate) use prefetch::prefetch;
 use rayon::prelude::*;
 pub use stale::Stale;
 
-/// The fewest robots whose cells one thread finds while another finds those of more
+/// The fewest robots whose bins one thread finds while another finds those of more
 /// (in a smaller swarm, one pass on one thread takes less than handing half to another
 /// thread could save: ASYNC makes a grid at every tick with Looks).
-const CELLS_STRETCH: usize = 1 << 14;
-/// At most about this many cells per robot in each layout of a grid...
-const MOST_CELLS: f64 = 16.0;
-/// A moving grid made again may size its cells as the one before did, at most this many
+const BINS_STRETCH: usize = 1 << 14;
+/// At most about this many bins per robot in each layout of a grid...
+const MOST_BINS: f64 = 16.0;
+/// A moving grid made again may size its bins as the one before did, at most this many
 /// times in a row (see [`SegmentGrid::moving_again`]).
 const KEEP_SIZING: u32 = 16;
 /// ...and of a [moving](SegmentGrid::moving) one.
-pub const MOST_MOVING_CELLS: f64 = 4.0;
+pub const MOST_MOVING_BINS: f64 = 4.0;
 
 /// Robots bucketed for line-of-sight walks and radius queries over the first two
-/// coordinates, about one robot per cell.
+/// coordinates, about one robot per bin.
 pub struct SegmentGrid {
     /// Horizontal bands (running along x): lines of sight with |dx| >= |dy|, radius
     /// queries.
@@ -79,17 +79,17 @@ pub struct SegmentGrid {
 impl SegmentGrid {
     /// A grid over the first two coordinates of `points`.
     pub fn new<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(None, points, false, MOST_CELLS, true, false)
+        Self::build(None, points, false, MOST_BINS, true, false)
     }
 
     /// The same, its two layouts built at once on two threads of the current rayon
     /// pool. Not from inside a parallel section whose tasks may ask for this grid:
     /// a thread waiting on the second layout may run such a task meanwhile.
     pub fn new_parallel<P: Point + Sync>(points: &[P]) -> Self {
-        Self::build(None, points, true, MOST_CELLS, true, false)
+        Self::build(None, points, true, MOST_BINS, true, false)
     }
 
-    /// A grid with at most about `most` times as many cells per layout as robots, its
+    /// A grid with at most about `most` times as many bins per layout as robots, its
     /// crowded core in nested parts if `nested`; in the arrays of `spare` if given, and
     /// with its parts if `keep` and [they serve](SegmentGrid::kept_levels).
     fn build<P: Point + Sync>(
@@ -122,7 +122,7 @@ impl SegmentGrid {
     /// again over `points`, with the number of grids in a row then sized alike; `None`
     /// where the grid is to be sized afresh: after [`KEEP_SIZING`] grids in a row sized
     /// alike, for another number of robots or kind, or where a point lies outside the
-    /// first part's box (its cells are then those of a grid over points that moved
+    /// first part's box (its bins are then those of a grid over points that moved
     /// within its box, which every query answers as one sized afresh: tested).
     fn kept_levels<P: Point>(&self, points: &[P], nested: bool) -> Option<(Vec<Level>, u32)> {
         if self.kept + 1 >= KEEP_SIZING || nested != self.nested || points.len() != self.len() {
@@ -145,32 +145,32 @@ impl SegmentGrid {
 
     /// The same as [`SegmentGrid::new_parallel`], for robots that then move: each may be
     /// given a disc it stays in ([`SegmentGrid::set_disc`]); until then its point. At
-    /// most [`MOST_MOVING_CELLS`] cells per robot: such a grid is made often, so that
-    /// its cells cost time, and under ASYNC it shares the memory with the robots' clocks.
+    /// most [`MOST_MOVING_BINS`] bins per robot: such a grid is made often, so that
+    /// its bins cost time, and under ASYNC it shares the memory with the robots' clocks.
     /// With `nested`, a crowded core gets finer nested parts, as in [`SegmentGrid::new`];
-    /// without, the cells are of one size, that of the grid's first part: the drift
-    /// walks must be given widens them by as many of its cells (in a nested part, by
+    /// without, the bins are of one size, that of the grid's first part: the drift
+    /// walks must be given widens them by as many of its bins (in a nested part, by
     /// many more of the finer ones).
     pub fn moving<P: Point + Sync>(points: &[P], nested: bool) -> Self {
-        Self::build(None, points, true, MOST_MOVING_CELLS, nested, false)
+        Self::build(None, points, true, MOST_MOVING_BINS, nested, false)
     }
 
     /// The same as [`SegmentGrid::moving`], made in the arrays of `self` (emptied and
     /// filled again, none allocated): the grid of ASYNC's Looks is made again every
     /// few ticks, and arrays freed and allocated each time were handed their pages
     /// afresh by the system (measured in docs/performance.md). The grid is that of
-    /// [`SegmentGrid::moving`] (tested), unless `keep`: then its cells are sized as
+    /// [`SegmentGrid::moving`] (tested), unless `keep`: then its bins are sized as
     /// those of `self` wherever every point lies in its box, up to [`KEEP_SIZING`]
     /// grids in a row. The swarm hardly changes from one tick to the next, and sizing
-    /// the cells (ranking a sample of the robots on both axes) was a few percent of an
+    /// the bins (ranking a sample of the robots on both axes) was a few percent of an
     /// ASYNC run made of grids for one tick (measured in docs/performance.md).
     pub fn moving_again<P: Point + Sync>(self, points: &[P], nested: bool, keep: bool) -> Self {
-        Self::build(Some(self), points, true, MOST_MOVING_CELLS, nested, keep)
+        Self::build(Some(self), points, true, MOST_MOVING_BINS, nested, keep)
     }
 
     /// Robot `k` (of a [moving](SegmentGrid::moving) grid) stays within `reach` of
     /// `centre`: the grid's line filter tests that disc in place of its point. The
-    /// robot stays in its cell, so walks must be given as their drift how far from the
+    /// robot stays in its bin, so walks must be given as their drift how far from the
     /// point the grid was built over the disc may reach.
     pub fn set_disc(&mut self, k: usize, centre: [f64; 2], reach: f64) {
         // Rounded up, with room for the single-precision sum the filter takes (see
@@ -194,7 +194,7 @@ impl SegmentGrid {
         }
     }
 
-    /// A grid over `points` in the box `[lo, hi]` (theirs) with cells `spacing` wide.
+    /// A grid over `points` in the box `[lo, hi]` (theirs) with bins `spacing` wide.
     #[cfg(test)]
     fn with_spacing<P: Point + Sync>(
         points: &[P],
@@ -222,22 +222,22 @@ impl SegmentGrid {
             Bands::empty(rows, n, 0, levels),
             Bands::empty(columns, n, 1, levels),
         );
-        // Each robot's cells in both layouts, in one pass (in stretches on all threads
+        // Each robot's bins in both layouts, in one pass (in stretches on all threads
         // if `parallel`), then the two layouts filed, one a thread if `parallel`.
         let (row_parts, column_parts) = (&rows.parts[..], &columns.parts[..]);
-        let cells = |(a, b): (&mut [u32], &mut [u32]), p: &[P]| {
-            cells_of_both(a, b, p, row_parts, column_parts, levels);
+        let bins = |(a, b): (&mut [u32], &mut [u32]), p: &[P]| {
+            bins_of_both(a, b, p, row_parts, column_parts, levels);
         };
-        if parallel && n >= 2 * CELLS_STRETCH {
+        if parallel && n >= 2 * BINS_STRETCH {
             let stretch = n
                 .div_ceil(2 * rayon::current_num_threads())
-                .max(CELLS_STRETCH);
+                .max(BINS_STRETCH);
             (rows.place.par_chunks_mut(stretch))
                 .zip(columns.place.par_chunks_mut(stretch))
                 .zip(points.par_chunks(stretch))
-                .for_each(|(slots, p)| cells(slots, p));
+                .for_each(|(slots, p)| bins(slots, p));
         } else {
-            cells((&mut rows.place, &mut columns.place), points);
+            bins((&mut rows.place, &mut columns.place), points);
         }
         if parallel {
             rayon::join(|| rows.sort(points, lo), || columns.sort(points, lo));
@@ -276,15 +276,15 @@ impl SegmentGrid {
         self.len() == 0
     }
 
-    /// The side of the grid's smallest cells (the mean spacing between robots where
+    /// The side of the grid's smallest bins (the mean spacing between robots where
     /// they are densest): those of its innermost part, each nested part's being finer
     /// than the one around it.
-    pub fn cell_size(&self) -> f64 {
+    pub fn bin_size(&self) -> f64 {
         self.rows.parts.last().expect("a first part").spacing
     }
 
     /// Every robot once, as the horizontal bands hold them (part by part, band by band,
-    /// cell by cell), with each robot's rank there.
+    /// bin by bin), with each robot's rank there.
     pub fn order(&self) -> SpatialOrder<'_> {
         let n = self.len();
         SpatialOrder {
@@ -302,7 +302,7 @@ impl SegmentGrid {
 /// At most this many parts to a layout.
 pub(super) const MOST_LEVELS: usize = 4;
 /// A nested part is made for a box whose robots would be at least this many times as
-/// dense as the cells of the part around it are made for...
+/// dense as the bins of the part around it are made for...
 const CROWDED: f64 = 16.0;
 /// ...and that holds at least this many robots.
 const FEWEST_NESTED: f64 = 64.0;
@@ -312,7 +312,7 @@ const FEWEST_NESTED: f64 = 64.0;
 const CUTS: [usize; 2] = [20, 10];
 
 /// The first level of a grid over `points` with at most about `most` times as many
-/// cells per layout as robots (the swarm's box), the robots sampled for the next ones,
+/// bins per layout as robots (the swarm's box), the robots sampled for the next ones,
 /// and the area per robot of the swarm of its box between the first and third
 /// quartiles of each coordinate (the two on two threads if `parallel`).
 fn first_level<P: Point>(points: &[P], most: f64, parallel: bool) -> (Level, Sample, f64) {
@@ -338,19 +338,19 @@ fn first_level<P: Point>(points: &[P], most: f64, parallel: bool) -> (Level, Sam
     // The mean spacing in the swarm's core (its interquartile box holds about a
     // quarter of the robots): a converging swarm is dense in the middle with a few
     // robots far out, and lines of sight cross the core. But never more than about
-    // `most` n cells per layout (straggling swarms: memory against walk length, see
+    // `most` n bins per layout (straggling swarms: memory against walk length, see
     // docs/performance.md), nor 4n for thin ones.
     let quartile = sample.quartile_box_area(parallel) / n;
     let spacing = (4.0 * quartile)
         .sqrt()
-        .max((ext[0] * ext[1] / (most * n * BAND * CELL)).sqrt())
+        .max((ext[0] * ext[1] / (most * n * BAND * BIN)).sqrt())
         .max(longest / (2.0 * n.sqrt()))
         .max(longest * 1e-9)
         .max(1e-300);
     (Level { spacing, ..first }, sample, quartile)
 }
 
-/// Robots sampled from a swarm, for the sizes of a grid's cells: at most 4096 (evenly
+/// Robots sampled from a swarm, for the sizes of a grid's bins: at most 4096 (evenly
 /// strided, so a function of the positions), those within the swarm's box.
 struct Sample {
     /// Their first two coordinates.
@@ -398,17 +398,17 @@ impl Sample {
     /// The levels of a grid's parts, the first given (the swarm's box), for a swarm
     /// whose [quartile box](Sample::quartile_box_area) has area `quartile` per robot.
     /// Where the robots of a box between two percentiles of each coordinate (of the
-    /// robots of the last box) are [`CROWDED`] times as dense as its cells are made
-    /// for, that box becomes the next level, its cells sized for its own robots; and so
+    /// robots of the last box) are [`CROWDED`] times as dense as its bins are made
+    /// for, that box becomes the next level, its bins sized for its own robots; and so
     /// on, up to [`MOST_LEVELS`]. The boxes tried are those of
     /// [`CUTS`], the widest first. A converging swarm packs most robots in a core a few
-    /// units across while stragglers hold its box wide: cells sized for the box would
+    /// units across while stragglers hold its box wide: bins sized for the box would
     /// hold hundreds of robots each. Its density falls off around the core, so that a
-    /// box around only the core would leave a dense ring in the coarse cells around it.
+    /// box around only the core would leave a dense ring in the coarse bins around it.
     fn levels(&self, first: Level, quartile: f64) -> Vec<Level> {
         let mut levels = vec![first];
         // Every box tried holds the quartile box and at most every robot, so the first
-        // is crowded only if the first cells are made for [`CROWDED`] times `quartile`
+        // is crowded only if the first bins are made for [`CROWDED`] times `quartile`
         // (one less leaves room for rounding).
         if first.spacing * first.spacing < (CROWDED - 1.0) * quartile {
             return levels;
@@ -432,7 +432,7 @@ impl Sample {
             outer.get_or_insert((sample.len() - inside.len()) as f64 * self.per);
             nested = Some(inside);
         }
-        // The first part then holds only the robots outside the second: cells for as
+        // The first part then holds only the robots outside the second: bins for as
         // many.
         if let Some(m) = outer {
             let longest = (first.hi[0] - first.lo[0]).max(first.hi[1] - first.lo[1]);
@@ -443,7 +443,7 @@ impl Sample {
 
     /// The box of `sample` between the ranks `len / cut` and `len - 1 - len / cut` of
     /// each coordinate as a level, with the sampled robots it holds, if it holds
-    /// [`FEWEST_NESTED`] robots and they are [`CROWDED`] times as dense as cells of
+    /// [`FEWEST_NESTED`] robots and they are [`CROWDED`] times as dense as bins of
     /// spacing `around` are made for.
     fn crowded(
         &self,

@@ -1,5 +1,5 @@
 //! Radius queries: the robots near a point, whether a robot is isolated, and the hints
-//! that fetch their cells ahead. Each asks the parts whose boxes meet its square.
+//! that fetch their bins ahead. Each asks the parts whose boxes meet its square.
 
 use super::SegmentGrid;
 use super::bands::Part;
@@ -26,24 +26,24 @@ impl SegmentGrid {
             .map(|(_, p)| p)
     }
 
-    /// Calls `f` with every robot whose cell meets the square of half-side `radius`
+    /// Calls `f` with every robot whose bin meets the square of half-side `radius`
     /// around `(x, y)` (a superset of the robots within `radius`).
     pub fn for_each_near(&self, x: f64, y: f64, radius: f64, f: &mut dyn FnMut(usize)) {
         let g = &self.rows;
         for part in self.parts_near(x, y, radius) {
-            // The same cells of every band.
-            let (c0, c1) = (part.cell(x - radius), part.cell(x + radius));
+            // The same bins of every band.
+            let (c0, c1) = (part.bin(x - radius), part.bin(x + radius));
             for r in part.band(y - radius)..=part.band(y + radius) {
-                for s in g.cells_range(part, r, c0, c1) {
+                for s in g.bins_range(part, r, c0, c1) {
                     f(g.items[s] as usize);
                 }
             }
         }
     }
 
-    /// Appends to `out` up to `most` robots other than `skip` whose cell meets the
-    /// square around `(x, y)` of half-side the spacing its part's cells are made for:
-    /// a few neighbours, however crowded the cells. The innermost part first, and in
+    /// Appends to `out` up to `most` robots other than `skip` whose bin meets the
+    /// square around `(x, y)` of half-side the spacing its part's bins are made for:
+    /// a few neighbours, however crowded the bins. The innermost part first, and in
     /// each the band through `(x, y)` first.
     pub fn near_few(&self, x: f64, y: f64, skip: usize, most: usize, out: &mut Vec<usize>) {
         let g = &self.rows;
@@ -54,9 +54,9 @@ impl SegmentGrid {
             }
             let (low, mid, high) = (part.band(y - radius), part.band(y), part.band(y + radius));
             let bands = std::iter::once(mid).chain(low..mid).chain(mid + 1..=high);
-            let (c0, c1) = (part.cell(x - radius), part.cell(x + radius));
+            let (c0, c1) = (part.bin(x - radius), part.bin(x + radius));
             for r in bands {
-                for s in g.cells_range(part, r, c0, c1) {
+                for s in g.bins_range(part, r, c0, c1) {
                     if out.len() >= most {
                         return;
                     }
@@ -71,10 +71,10 @@ impl SegmentGrid {
 
     /// Calls `f` with every robot that may lie within `radius` of `(x, y)`, every robot
     /// being within `drift` of the point the grid was built over: of the robots of the
-    /// cells meeting the square of half-side `radius + drift`, those whose stored point
+    /// bins meeting the square of half-side `radius + drift`, those whose stored point
     /// is within `radius + drift` (of a [moving](SegmentGrid::moving) grid: whose disc
     /// comes within `radius`), with room for the rounding of stored coordinates. The
-    /// test reads the cells' own coordinates, so that a crowded cell costs no read of
+    /// test reads the bins' own coordinates, so that a crowded bin costs no read of
     /// the robots' positions beyond the few that pass. `drift` bounds every stored reach
     /// (each rounded up by at most a millionth of it).
     pub fn for_each_reaching(
@@ -123,9 +123,9 @@ impl SegmentGrid {
             du * du + dv * dv <= within * within
         }
         for part in self.parts_near(x, y, wide) {
-            let (c0, c1) = (part.cell(x - wide), part.cell(x + wide));
+            let (c0, c1) = (part.bin(x - wide), part.bin(x + wide));
             for r in part.band(y - wide)..=part.band(y + wide) {
-                let slice = g.cells_range(part, r, c0, c1);
+                let slice = g.bins_range(part, r, c0, c1);
                 // A band's robots tested LANES at a time, branch-free, in single
                 // precision, into a mask (a radius query in a crowded core reads
                 // hundreds, few of which pass); those that pass, in double precision.
@@ -159,9 +159,9 @@ impl SegmentGrid {
     }
 
     /// Whether certainly no other robot lies within `radius` of robot `k`, where the
-    /// grid was built: the robots of the cells near its stored point, tested on stored
+    /// grid was built: the robots of the bins near its stored point, tested on stored
     /// coordinates with room for their rounding. `false` when unsure (a radius not
-    /// below the smallest cells' size, coordinates not finite in single precision).
+    /// below the smallest bins' size, coordinates not finite in single precision).
     pub fn isolated(&self, k: usize, radius: f64) -> bool {
         let g = &self.rows;
         // Two stored coordinates are each off by at most `rounding` plus the double
@@ -169,16 +169,16 @@ impl SegmentGrid {
         // from them; twice that leaves room.
         let extent = self.lo[0].abs() + self.lo[1].abs() + self.hi[0].abs() + self.hi[1].abs();
         let reach = radius + 4.0 * self.rounding + 16.0 * f64::EPSILON * extent;
-        if !self.single || reach.is_nan() || reach >= self.cell_size() {
+        if !self.single || reach.is_nan() || reach >= self.bin_size() {
             return false;
         }
         let s = g.place[k] as usize;
         let [x, y] = g.coords[s].map(f64::from);
         let (ax, ay) = (x + self.lo[0], y + self.lo[1]);
         self.parts_near(ax, ay, reach).all(|part| {
-            let (c0, c1) = (part.cell(ax - reach), part.cell(ax + reach));
+            let (c0, c1) = (part.bin(ax - reach), part.bin(ax + reach));
             (part.band(ay - reach)..=part.band(ay + reach)).all(|r| {
-                g.cells_range(part, r, c0, c1).all(|t| {
+                g.bins_range(part, r, c0, c1).all(|t| {
                     let [u, v] = g.coords[t].map(f64::from);
                     t == s || (u - x).abs() > reach || (v - y).abs() > reach
                 })

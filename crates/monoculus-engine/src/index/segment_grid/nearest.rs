@@ -7,10 +7,10 @@ use super::bands::{Bands, Part};
 use super::{MOST_LEVELS, SegmentGrid, Stale};
 
 impl SegmentGrid {
-    /// Robots other than `i`, nearest to it first (ties in any order): rings of cells
-    /// around its cell in each part, each robot given out once no unvisited cell can
+    /// Robots other than `i`, nearest to it first (ties in any order): rings of bins
+    /// around its bin in each part, each robot given out once no unvisited bin can
     /// hold a nearer one. O(k log k) for the first k. The `stale` robots are skipped in
-    /// the cells and queued at once from their current positions; every other robot is
+    /// the bins and queued at once from their current positions; every other robot is
     /// within `drift` of the point the grid was built over.
     pub fn nearest_first<'a, P: Point, L: Locate<P> + ?Sized>(
         &'a self,
@@ -30,7 +30,7 @@ impl SegmentGrid {
         // beyond its neighbours).
         let mut rings = [Rings::default(); MOST_LEVELS];
         for (rings, part) in rings.iter_mut().zip(&g.parts) {
-            rings.cell = (part.cell(p.axis(0)), part.band(p.axis(1)));
+            rings.bin = (part.bin(p.axis(0)), part.band(p.axis(1)));
         }
         Nearest {
             grid: g,
@@ -55,34 +55,34 @@ pub(super) struct Nearest<'a, P: Point, L: ?Sized> {
     pub(super) rings: [Rings; MOST_LEVELS],
     /// Visited robots not yet given out: (distance bits, robot), nearest on top.
     pub(super) heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>>,
-    /// Robots whose cells are out of date (queued from the start).
+    /// Robots whose bins are out of date (queued from the start).
     pub(super) stale: &'a Stale,
-    /// How far the others may be from their cells' points.
+    /// How far the others may be from their bins' points.
     pub(super) drift: f64,
 }
 
-/// The rings of cells visited in one part.
+/// The rings of bins visited in one part.
 #[derive(Clone, Copy, Default)]
 pub(super) struct Rings {
-    /// The observer's cell and band (clamped to the part).
-    pub(super) cell: (usize, usize),
+    /// The observer's bin and band (clamped to the part).
+    pub(super) bin: (usize, usize),
     /// The last ring visited (`None` before the first).
     pub(super) ring: Option<usize>,
     /// Every robot of the part nearer than this has been visited.
     pub(super) reach: f64,
-    /// Whether every cell of the part has been visited.
+    /// Whether every bin of the part has been visited.
     pub(super) exhausted: bool,
 }
 
 impl<P: Point, L: Locate<P> + ?Sized> Nearest<'_, P, L> {
-    /// Visits the next ring of cells of part `x`.
+    /// Visits the next ring of bins of part `x`.
     pub(super) fn expand(&mut self, x: usize) {
         let g = self.grid;
         let part: &Part = &g.parts[x];
         let rings = &mut self.rings[x];
-        let (c, r) = rings.cell;
+        let (c, r) = rings.bin;
         let k = rings.ring.map_or(0, |k| k + 1);
-        let (c0, c1) = (c.saturating_sub(k), (c + k).min(part.cells - 1));
+        let (c0, c1) = (c.saturating_sub(k), (c + k).min(part.bins - 1));
         let (r0, r1) = (r.saturating_sub(k), (r + k).min(part.bands - 1));
         rings.ring = Some(k);
         let (i, p, positions, stale) = (self.i, self.p, self.positions, self.stale);
@@ -97,25 +97,25 @@ impl<P: Point, L: Locate<P> + ?Sized> Nearest<'_, P, L> {
         };
         for band in r0..=r1 {
             if k == 0 || band == r.wrapping_sub(k) || band == r + k {
-                push(g.cells_range(part, band, c0, c1), &mut self.heap);
+                push(g.bins_range(part, band, c0, c1), &mut self.heap);
             } else {
                 if c >= k {
-                    push(g.cells_range(part, band, c - k, c - k), &mut self.heap);
+                    push(g.bins_range(part, band, c - k, c - k), &mut self.heap);
                 }
-                if c + k < part.cells {
-                    push(g.cells_range(part, band, c + k, c + k), &mut self.heap);
+                if c + k < part.bins {
+                    push(g.bins_range(part, band, c + k, c + k), &mut self.heap);
                 }
             }
         }
-        // Distance from the observer to the nearest unvisited cell (infinite past the
+        // Distance from the observer to the nearest unvisited bin (infinite past the
         // part's edge), less room for rounding. An observer outside a nested part's
-        // box is nearer its edge cells than any other: the bounds hold as well.
+        // box is nearer its edge bins than any other: the bounds hold as well.
         let (x, y) = (self.p.axis(0), self.p.axis(1));
         let (lo_x, lo_y) = part.corner(c.saturating_sub(k), r.saturating_sub(k));
         let (hi_x, hi_y) = part.corner(c + k + 1, r + k + 1);
         let gap = |inside: bool, d: f64| if inside { d } else { f64::INFINITY };
         let reach = gap(c > k, x - lo_x)
-            .min(gap(c + k + 1 < part.cells, hi_x - x))
+            .min(gap(c + k + 1 < part.bins, hi_x - x))
             .min(gap(r > k, y - lo_y))
             .min(gap(r + k + 1 < part.bands, hi_y - y));
         rings.exhausted = reach == f64::INFINITY;
@@ -128,7 +128,7 @@ impl<P: Point, L: Locate<P> + ?Sized> Iterator for Nearest<'_, P, L> {
 
     fn next(&mut self) -> Option<usize> {
         loop {
-            // The part whose unvisited cells may hold the nearest robots.
+            // The part whose unvisited bins may hold the nearest robots.
             let mut next: Option<(usize, f64)> = None;
             let parts = self.grid.parts.len();
             for (x, rings) in self.rings[..parts].iter().enumerate() {

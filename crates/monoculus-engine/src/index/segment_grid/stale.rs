@@ -1,7 +1,7 @@
 //! [`Stale`]: the robots that moved since a grid was built.
 
 /// Robots that moved since a grid was built (to points it [covers](SegmentGrid::covers)):
-/// their cells are out of date, so queries skip them in the cells, where that matters,
+/// their bins are out of date, so queries skip them in the bins, where that matters,
 /// and test them one by one at their current positions. A set of robot indices: a
 /// list, and a bit per robot.
 #[derive(Debug, Default)]

@@ -69,11 +69,11 @@ impl SegmentGrid {
         let tube = Tube::new(p, q, v.eps_ang, 0.0);
         // Every blocker lies within `tube.tolerance()` of the segment (the blocking cone
         // and room for rounding in the exact test), so the point the grid holds for it
-        // within `tube.tolerance() + drift`: the cells walked. A moving grid's filter
+        // within `tube.tolerance() + drift`: the bins walked. A moving grid's filter
         // gives each robot its own reach; otherwise the filter allows the drift too.
         let reaching = !self.rows.reach.is_empty();
         let tol = tube.tolerance() + if reaching { 0.0 } else { drift };
-        let tol_cells = tube.tolerance() + drift;
+        let tol_bins = tube.tolerance() + drift;
         let d = q - p;
         let len = d.length();
         let (px, py, dx, dy) = (p.axis(0), p.axis(1), d.axis(0), d.axis(1));
@@ -107,15 +107,15 @@ impl SegmentGrid {
         prefetch(&g.place[j]);
         let (a, b) = (g.run, 1 - g.run);
         let (pa, pb, da, db) = (p.axis(a), p.axis(b), d.axis(a), d.axis(b));
-        // The grid's point for a blocker lies within `tol_cells` of the segment, so
-        // within `tol_cells` of its extent on either axis. Band by band: a point at
+        // The grid's point for a blocker lies within `tol_bins` of the segment, so
+        // within `tol_bins` of its extent on either axis. Band by band: a point at
         // distance t from the line, at angle phi to the major axis, lies along that
         // axis within t / |sin phi| of where the line is at the band's edges widened by
         // `tol_b` across it, for `tol_b = t / |cos phi|` (at most sqrt 2 t): twice the
         // tube's tolerance (room for rounding), and the drift with that factor.
         let secant = len / da.abs();
-        let tol_b = 2.0 * (tol_cells - drift) + drift * secant * (1.0 + 1e-9);
-        let (a_lo, a_hi) = (pa.min(pa + da) - tol_cells, pa.max(pa + da) + tol_cells);
+        let tol_b = 2.0 * (tol_bins - drift) + drift * secant * (1.0 + 1e-9);
+        let (a_lo, a_hi) = (pa.min(pa + da) - tol_bins, pa.max(pa + da) + tol_bins);
         let (b_lo, b_hi) = (pb.min(pb + db) - tol_b, pb.max(pb + db) + tol_b);
         // Rounding in the inverse below is covered by this much room on the major axis.
         let scale = pa
@@ -156,11 +156,11 @@ impl SegmentGrid {
         // the next batch is laid out before this one's robots are read, so that its
         // slices' bounds arrive meanwhile.
         const BATCH: usize = 32;
-        let (mut cells, mut slices) = ([(0usize, 0usize); BATCH], [(0usize, 0usize); BATCH]);
+        let (mut bins, mut slices) = ([(0usize, 0usize); BATCH], [(0usize, 0usize); BATCH]);
         for (nested, part) in g.parts.iter().enumerate() {
             let (mut a_lo, mut a_hi, mut b_lo, mut b_hi) = (a_lo, a_hi, b_lo, b_hi);
             if nested > 0 {
-                // Only the stretch of the segment within `tol_cells` of the part's box
+                // Only the stretch of the segment within `tol_bins` of the part's box
                 // can pass a grid point of it that close (with room for rounding).
                 let room = 1e-9
                     * (scale
@@ -168,7 +168,7 @@ impl SegmentGrid {
                         + part.origin[1].abs()
                         + part.top[0].abs()
                         + part.top[1].abs());
-                let w = tol_cells * (1.0 + 1e-9) + room;
+                let w = tol_bins * (1.0 + 1e-9) + room;
                 let t = clip((0.0, 1.0), pa, da, part.origin[0] - w, part.top[0] + w);
                 let (t0, t1) = clip(t, pb, db, part.origin[1] - w, part.top[1] + w);
                 if t0 > t1 {
@@ -176,8 +176,8 @@ impl SegmentGrid {
                 }
                 let (a0, a1) = (pa + t0 * da, pa + t1 * da);
                 let (b0, b1) = (pb + t0 * db, pb + t1 * db);
-                a_lo = raise(a_lo, a0.min(a1) - tol_cells - room);
-                a_hi = lower(a_hi, a0.max(a1) + tol_cells + room);
+                a_lo = raise(a_lo, a0.min(a1) - tol_bins - room);
+                a_hi = lower(a_hi, a0.max(a1) + tol_bins + room);
                 b_lo = raise(b_lo, b0.min(b1) - tol_b - room);
                 b_hi = lower(b_hi, b0.max(b1) + tol_b + room);
                 if !part.meets(a_lo, a_hi, b_lo, b_hi) {
@@ -190,16 +190,16 @@ impl SegmentGrid {
             let narrowed = (r0 < r1 && steep).then_some(&track);
             let crossing = Crossing::new(part, (r0, r1), (a_lo, a_hi), narrowed, nested > 0);
             let mut r = r0;
-            let mut m = crossing.batch::<FLOOR>(&mut r, r1, part, &g.start, &mut cells);
+            let mut m = crossing.batch::<FLOOR>(&mut r, r1, part, &g.start, &mut bins);
             while m > 0 {
-                for (slice, &(c0, c1)) in slices.iter_mut().zip(&cells[..m]) {
+                for (slice, &(c0, c1)) in slices.iter_mut().zip(&bins[..m]) {
                     *slice = (g.start[c0] as usize, g.start[c1] as usize);
                     // A slice is a few robots: its first and last cache lines (the padding
                     // keeps both indices valid; the hardware streams longer slices).
                     prefetch(&g.coords[slice.0]);
                     prefetch(&g.coords[slice.1]);
                 }
-                let after = crossing.batch::<FLOOR>(&mut r, r1, part, &g.start, &mut cells);
+                let after = crossing.batch::<FLOOR>(&mut r, r1, part, &g.start, &mut bins);
                 let batch = std::mem::replace(&mut m, after);
                 if reaching {
                     let line = (p, q, i, j);

@@ -1,8 +1,8 @@
-//! How robots are filed: grids made again, kept cells, each robot's cell.
+//! How robots are filed: grids made again, kept bins, each robot's bin.
 
 use super::*;
 
-/// Whether two layouts hold the same parts, cells, robots and stored points (bit for
+/// Whether two layouts hold the same parts, bins, robots and stored points (bit for
 /// bit, the padding's NaNs included) and reaches.
 fn same_layout(a: &Bands, b: &Bands) -> bool {
     let bits = |g: &Bands| -> Vec<[u32; 2]> {
@@ -134,12 +134,12 @@ fn a_grid_made_again_keeping_its_sizing_has_the_parts_before_until_it_must_not()
     }
 }
 
-/// Every robot is filed in the cell its own band and cell give in each layout, computed
-/// for that layout alone (the two layouts' cells are found together, a band from the
-/// other layout's cell halved): on random, crowded (nested parts), lattice, collinear
-/// and far-off swarms, with robots on cell and band edges and on the box's far edges.
+/// Every robot is filed in the bin its own band and bin give in each layout, computed
+/// for that layout alone (the two layouts' bins are found together, a band from the
+/// other layout's bin halved): on random, crowded (nested parts), lattice, collinear
+/// and far-off swarms, with robots on bin and band edges and on the box's far edges.
 #[test]
-fn each_robot_is_filed_in_the_cell_of_its_own_band_and_cell() {
+fn each_robot_is_filed_in_the_bin_of_its_own_band_and_bin() {
     let mut rng = Stream::new(29, 0, 0, 0);
     let far = DVec2::new(-3.0e9, 7.0e11);
     let mut edges: Vec<DVec2> = (0..30)
@@ -159,7 +159,7 @@ fn each_robot_is_filed_in_the_cell_of_its_own_band_and_cell() {
     for (s, pts) in swarms.iter().enumerate() {
         let first = SegmentGrid::new(pts);
         let (lo, hi) = (first.lo, first.hi);
-        // Cells of 0.5 and 0.1 (edges on the lattice's points; not a binary fraction).
+        // Bins of 0.5 and 0.1 (edges on the lattice's points; not a binary fraction).
         let grids = [
             first,
             SegmentGrid::moving(pts, false),
@@ -176,13 +176,13 @@ fn each_robot_is_filed_in_the_cell_of_its_own_band_and_cell() {
                         .rposition(|l| l.holds(p))
                         .map_or(0, |l| l + 1);
                     let part = &g.parts[level];
-                    let cell = part.row(part.band(p.axis(across))) + part.cell(p.axis(g.run));
+                    let bin = part.row(part.band(p.axis(across))) + part.bin(p.axis(g.run));
                     let at = g.place[k];
                     assert_eq!(g.items[at as usize], k as u32);
-                    let (from, to) = (g.start[cell], g.start[cell + 1]);
+                    let (from, to) = (g.start[bin], g.start[bin + 1]);
                     assert!(
                         from <= at && at < to,
-                        "swarm {s}, run {}: robot {k} at {p} not in cell {cell}",
+                        "swarm {s}, run {}: robot {k} at {p} not in bin {bin}",
                         g.run
                     );
                 }

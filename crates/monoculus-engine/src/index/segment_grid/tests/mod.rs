@@ -1,8 +1,8 @@
 //! The band grid against the definition: its parts (`parts`), its queries (`queries`),
-//! the cells a walk reads in a band (`band_cells`), and how robots are filed
+//! the bins a walk reads in a band (`band_bins`), and how robots are filed
 //! (`layout`); the swarms they share are here.
 
-mod band_cells;
+mod band_bins;
 mod layout;
 mod parts;
 mod queries;
@@ -17,7 +17,7 @@ pub(super) fn brute(points: &[DVec2], i: usize, j: usize, v: &VisionParams) -> b
 }
 
 /// 404 robots in a square of side 20: the first four at its corners pin the bounds, so
-/// that moving robots 4, 5 and 6 about inside keeps the grid's cells.
+/// that moving robots 4, 5 and 6 about inside keeps the grid's bins.
 pub(super) fn pinned_square(rng: &mut Stream) -> Vec<DVec2> {
     let mut pts = vec![
         DVec2::new(0.0, 0.0),

@@ -13,13 +13,13 @@ fn a_crowded_core_gets_finer_nested_parts() {
     let inner = &grid.levels()[1];
     assert!((0..2).all(|a| inner.lo[a] >= [11.9, 4.9][a] && inner.hi[a] <= [13.6, 6.6][a]));
     assert!(inner.spacing * 4.0 <= grid.levels()[0].spacing);
-    assert_eq!(grid.cell_size(), grid.levels().last().unwrap().spacing);
+    assert_eq!(grid.bin_size(), grid.levels().last().unwrap().spacing);
     // Every robot is held once, in the innermost part whose box holds it.
     for layout in [&grid.rows, &grid.columns] {
         let mut seen = vec![0; pts.len()];
         for (x, part) in layout.parts.iter().enumerate() {
             for r in 0..part.bands {
-                for s in layout.cells_range(part, r, 0, part.cells - 1) {
+                for s in layout.bins_range(part, r, 0, part.bins - 1) {
                     let k = layout.items[s] as usize;
                     seen[k] += 1;
                     let deepest = grid.levels()[1..]
@@ -40,8 +40,8 @@ fn a_crowded_core_gets_finer_nested_parts() {
 /// 42 beyond): 72% of the robots in a square of side 1, 17% in a shell around it out
 /// to side 2, 7% out to side 6, 4% stragglers over side 60. The box between the 10th
 /// and 90th percentiles is about the core alone, and would leave the shell in the
-/// outer part, whose cells are sized for the few robots outside the nested box over
-/// the whole swarm: tens of robots to a cell, tested by every line through the
+/// outer part, whose bins are sized for the few robots outside the nested box over
+/// the whole swarm: tens of robots to a bin, tested by every line through the
 /// shell. The wider box, between the 5th and 95th percentiles, takes the shell in.
 #[test]
 fn a_shell_around_the_core_is_nested_with_it() {
@@ -73,9 +73,9 @@ fn a_shell_around_the_core_is_nested_with_it() {
 }
 
 /// The shortcut that spares an uncrowded swarm its percentiles (its first nested box could
-/// be crowded only if the first cells were made for 16 times the quartile box's area
+/// be crowded only if the first bins were made for 16 times the quartile box's area
 /// per robot) never leaves out a part: the levels are those found without it, for
-/// both limits on the cells, on a square of 100 robots whose core of 4000 more shrinks
+/// both limits on the bins, on a square of 100 robots whose core of 4000 more shrinks
 /// step by step to a 500th of the square's side (across the threshold of crowding), then
 /// stretched by stragglers up to 10^17 times its side.
 #[test]
@@ -97,7 +97,7 @@ fn the_crowding_shortcut_never_leaves_out_a_part() {
             let far = 20.0 * 1.4f64.powi(step - 120);
             pts.extend([DVec2::new(-far, 0.0), DVec2::new(0.0, far)]);
         }
-        for most in [MOST_CELLS, MOST_MOVING_CELLS] {
+        for most in [MOST_BINS, MOST_MOVING_BINS] {
             let (first, sample, quartile) = first_level(&pts, most, false);
             // The sides ranked on two threads: the same area.
             let (_, _, twice) = first_level(&pts, most, true);

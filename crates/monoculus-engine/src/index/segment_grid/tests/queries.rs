@@ -4,11 +4,11 @@
 use super::*;
 
 /// Blockers at the edge of the blocking cone, on lines of every slope through a
-/// corner of the cells they are walked in (so a blocker sits across a band edge and
-/// a cell edge from where the line enters the band), in every part of a crowded
+/// corner of the bins they are walked in (so a blocker sits across a band edge and
+/// a bin edge from where the line enters the band), in every part of a crowded
 /// grid: the walk must find them all.
 #[test]
-fn blockers_at_the_cone_edge_next_to_cell_corners() {
+fn blockers_at_the_cone_edge_next_to_bin_corners() {
     for (swarm, seed) in [
         (pinned_square as fn(&mut Stream) -> _, 7),
         (crowded_square, 8),
@@ -29,7 +29,7 @@ fn blockers_at_the_cone_edge_next_to_cell_corners() {
             let part = &g.parts[rng.below(g.parts.len())];
             let (a, b) = (g.run, 1 - g.run);
             let mut corner = DVec2::ZERO;
-            corner[a] = part.origin[0] + (1 + rng.below(part.cells - 2)) as f64 / part.inv_width;
+            corner[a] = part.origin[0] + (1 + rng.below(part.bins - 2)) as f64 / part.inv_width;
             corner[b] = part.origin[1] + (1 + rng.below(part.bands - 2)) as f64 * part.height;
             let p = DVec2::new(rng.uniform() * 20.0, rng.uniform() * 20.0);
             // Through the corner, or just beside it (by about the cone's width).
@@ -67,11 +67,11 @@ fn blockers_at_the_cone_edge_next_to_cell_corners() {
 }
 
 /// A moving grid: a blocker on the line of sight whose point in the grid lies almost
-/// the drift away from it, on either side, next to a band's and a cell's corner, on
+/// the drift away from it, on either side, next to a band's and a bin's corner, on
 /// lines of every slope, also in a crowded grid's nested parts: the walk, given that
-/// drift, visits its cell and finds it.
+/// drift, visits its bin and finds it.
 #[test]
-fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
+fn a_moving_grid_finds_blockers_a_drift_away_from_their_bins() {
     for (swarm, seed) in [
         (pinned_square as fn(&mut Stream) -> _, 9),
         (crowded_square, 10),
@@ -83,8 +83,8 @@ fn a_moving_grid_finds_blockers_a_drift_away_from_their_cells() {
         let mut checked = 0;
         while checked < 2000 {
             let like = SegmentGrid::new(&pts);
-            let cell = like.cell_size();
-            let drift = cell * [0.3, 1.0, 2.0][checked % 3];
+            let bin = like.bin_size();
+            let drift = bin * [0.3, 1.0, 2.0][checked % 3];
             let p = DVec2::new(rng.uniform_in(2.0, 18.0), rng.uniform_in(2.0, 18.0));
             let angle = rng.uniform() * std::f64::consts::TAU;
             let mut q = p + DVec2::new(angle.cos(), angle.sin()) * rng.uniform_in(3.0, 8.0);
@@ -132,7 +132,7 @@ fn a_walk_with_more_candidates_than_it_holds_finds_the_one_on_the_line() {
     let mut found = 0;
     for trial in 0..40 {
         // Enough robots for the walk to hold its candidates, in a square of side 100:
-        // cells half a unit wide.
+        // bins half a unit wide.
         let n = super::walk::HOLD_FROM + 7_232;
         let mut pts: Vec<DVec2> = (0..n)
             .map(|_| DVec2::new(rng.uniform_in(0.0, 100.0), rng.uniform_in(0.0, 100.0)))
@@ -142,7 +142,7 @@ fn a_walk_with_more_candidates_than_it_holds_finds_the_one_on_the_line() {
         pts[j] = DVec2::new(99.0, rng.uniform_in(40.0, 60.0));
         let (p, q) = (pts[i], pts[j]);
         let mut grid = SegmentGrid::moving(&pts, false);
-        let reach = 2.0 * grid.cell_size();
+        let reach = 2.0 * grid.bin_size();
         // Every other robot may be up to `reach` from its point, and is, off the line.
         let mut now = pts.clone();
         let normal = DVec2::new(p.y - q.y, q.x - p.x).normalize();
@@ -217,7 +217,7 @@ fn lines_of_sight_through_a_crowded_core_agree_with_the_definition() {
             expect,
             "{i} -> {j}"
         );
-        // The walk as compiled for a CPU without AVX2 (its cells found through the
+        // The walk as compiled for a CPU without AVX2 (its bins found through the
         // saturating conversion).
         assert_eq!(
             grid.walk::<false, _, _>(pts.as_slice(), i, j, &v, 0.0),
@@ -225,7 +225,7 @@ fn lines_of_sight_through_a_crowded_core_agree_with_the_definition() {
             "{i} -> {j}, generic"
         );
         // The same robots held a drift away, in a moving grid.
-        let drift = like.cell_size() * 0.7;
+        let drift = like.bin_size() * 0.7;
         let base: Vec<DVec2> = pts
             .iter()
             .map(|&p| {
@@ -254,14 +254,14 @@ fn lines_of_sight_through_a_crowded_core_agree_with_the_definition() {
 }
 
 /// Robots with company within the radius (pairs at and around the radius, some
-/// across cell edges and corners, far from the origin) are never marked isolated;
+/// across bin edges and corners, far from the origin) are never marked isolated;
 /// lone robots are.
 #[test]
 fn isolated_robots_have_nobody_within_the_radius() {
     let mut rng = Stream::new(5, 0, 0, 0);
     let offset = DVec2::new(-4.0e4, 7.0e3);
     let radius = 1e-6;
-    // The first two robots pin the box, so adding robots inside keeps the cells.
+    // The first two robots pin the box, so adding robots inside keeps the bins.
     let mut pts = vec![offset, offset + DVec2::splat(40.0)];
     pts.extend((0..2000).map(|_| offset + DVec2::new(rng.uniform(), rng.uniform()) * 40.0));
     let first = SegmentGrid::new(&pts);
@@ -274,15 +274,15 @@ fn isolated_robots_have_nobody_within_the_radius() {
             // Beside a robot.
             pts.push(pts[2 + rng.below(2000)] + dir);
         } else {
-            // Either side of a cell corner.
+            // Either side of a bin corner.
             let part = &g.parts[0];
-            let (x, y) = part.corner(1 + rng.below(part.cells - 2), 1 + rng.below(part.bands - 2));
+            let (x, y) = part.corner(1 + rng.below(part.bins - 2), 1 + rng.below(part.bands - 2));
             let corner = DVec2::new(x, y);
             pts.extend([corner + dir * 0.5, corner - dir * 0.5]);
         }
     }
-    // The same cells as `first`.
-    let grid = SegmentGrid::with_spacing(&pts, first.cell_size(), first.lo, first.hi, false);
+    // The same bins as `first`.
+    let grid = SegmentGrid::with_spacing(&pts, first.bin_size(), first.lo, first.hi, false);
     let (mut lone, mut missed) = (0, 0);
     for (k, &p) in pts.iter().enumerate() {
         let alone = pts
@@ -303,7 +303,7 @@ fn isolated_robots_have_nobody_within_the_radius() {
         lone > 1700 && missed == 0,
         "{missed} of {lone} lone robots not marked"
     );
-    assert!(!grid.isolated(0, grid.cell_size()));
+    assert!(!grid.isolated(0, grid.bin_size()));
 }
 
 /// Blockers inside the cone, a few hundred units from the swarm's corner and far

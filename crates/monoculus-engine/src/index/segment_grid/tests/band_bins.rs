@@ -1,10 +1,10 @@
-//! The cells a walk reads in each band.
+//! The bins a walk reads in each band.
 
 use super::*;
 
-/// The cells a walk reads in a band, computed afresh in coordinates (both widened
-/// edges, their room for rounding, then `Part::cell`): what [`Crossing`] must contain.
-fn cells_afresh(
+/// The bins a walk reads in a band, computed afresh in coordinates (both widened
+/// edges, their room for rounding, then `Part::bin`): what [`Crossing`] must contain.
+fn bins_afresh(
     part: &bands::Part,
     track: &crossing::Track,
     r: usize,
@@ -25,16 +25,16 @@ fn cells_afresh(
         hi = hi.min(track.pa + t0.max(t1) + room);
     }
     let beside = nested && ((hi < part.origin[0]) | (lo > part.top[0]));
-    (lo <= hi && !beside).then(|| (part.cell(lo), part.cell(hi)))
+    (lo <= hi && !beside).then(|| (part.bin(lo), part.bin(hi)))
 }
 
-/// The crossing's cells, one multiply-add a band, hold those computed band by band
+/// The crossing's bins, one multiply-add a band, hold those computed band by band
 /// afresh, and at most one more on either side: on lines of every slope (through
 /// random robots, along a lattice's rows and diagonals, nearly along the run axis,
 /// nearly across it), widened by a drift or not, in plain and nested parts, far from
 /// the origin too.
 #[test]
-fn a_crossing_holds_the_cells_computed_afresh() {
+fn a_crossing_holds_the_bins_computed_afresh() {
     let mut rng = Stream::new(21, 0, 0, 0);
     let lattice = lattice_30();
     let (mut bands_checked, mut wider) = (0usize, 0usize);
@@ -69,7 +69,7 @@ fn a_crossing_holds_the_cells_computed_afresh() {
             let tol = 1e-9 * d.length() * rng.uniform();
             // Widened across as a moving grid's drift widens it, on every third line.
             let drift = if t % 3 == 0 {
-                grid.cell_size() * 2.0 * rng.uniform()
+                grid.bin_size() * 2.0 * rng.uniform()
             } else {
                 0.0
             };
@@ -103,9 +103,9 @@ fn a_crossing_holds_the_cells_computed_afresh() {
                     k > 0,
                 );
                 for r in r0..=r1 {
-                    let afresh = cells_afresh(part, &track, r, extent, narrowed, k > 0);
-                    let found = crossing.cells::<true>(r);
-                    assert_eq!(found, crossing.cells::<false>(r));
+                    let afresh = bins_afresh(part, &track, r, extent, narrowed, k > 0);
+                    let found = crossing.bins::<true>(r);
+                    assert_eq!(found, crossing.bins::<false>(r));
                     bands_checked += 1;
                     let Some((c0, c1)) = afresh else {
                         continue;
@@ -123,7 +123,7 @@ fn a_crossing_holds_the_cells_computed_afresh() {
         }
     }
     assert!(bands_checked > 20_000, "{bands_checked} bands");
-    // Wider only where the crossing's extra room passes a cell's edge: rarely.
+    // Wider only where the crossing's extra room passes a bin's edge: rarely.
     assert!(
         wider * 1000 < bands_checked,
         "{wider} of {bands_checked} wider"
