@@ -35,6 +35,11 @@ pub struct TraceArgs {
     /// a schedule that `scheduler.kind = "file"` replays exactly. Round schedulers only.
     #[arg(long, value_name = "FILE")]
     schedule: Option<PathBuf>,
+    /// ASYNC: also write every phase duration the run used to FILE (columns robot,
+    /// cycle, phase, ticks): the form of `scheduler.durations`, which replays the run
+    /// exactly, whatever the config's distributions.
+    #[arg(long, value_name = "FILE")]
+    durations: Option<PathBuf>,
     /// Which cell of a sweep (default: the config must have one cell).
     #[arg(long)]
     cell: Option<usize>,
@@ -52,8 +57,17 @@ pub fn trace(args: TraceArgs, registry: &monoculus_experiments::Registry) -> Res
                 .into(),
         ));
     }
+    if args.durations.is_some() && cell.spec.scheduler.kind != SchedulerKind::Async {
+        return Err(Failure::Input(
+            "--durations: lists the phases of an ASYNC run, and this run's scheduler has rounds, not phases (--schedule writes those)"
+                .into(),
+        ));
+    }
     let mut paths = args.config.paths(&exp);
     paths.output("--out", &args.out);
+    if let Some(d) = &args.durations {
+        paths.output("--durations", d);
+    }
     if args.positions {
         paths.output("--positions", &positions_path(&args.out));
     }
@@ -187,7 +201,20 @@ fn trace_in<P: IndexPoint>(cell: &Cell, args: &TraceArgs) -> Result<RunOutcome, 
     if let Some(e) = io_error {
         return Err(e.into());
     }
-    for f in [Some(out), pos_out, schedule_out].into_iter().flatten() {
+    let durations_out = match &args.durations {
+        Some(path) => {
+            let used = monoculus_engine::asynchrony::Durations::new(sim.drawn_durations())
+                .map_err(|e| Failure::Other(anyhow::anyhow!("the run's durations: {e}")))?;
+            let mut f = AtomicFile::create(path)?;
+            f.write_all(monoculus_experiments::durations::durations_csv(&used).as_bytes())?;
+            Some(f)
+        }
+        None => None,
+    };
+    for f in [Some(out), pos_out, schedule_out, durations_out]
+        .into_iter()
+        .flatten()
+    {
         f.commit()?;
     }
     Ok(outcome)

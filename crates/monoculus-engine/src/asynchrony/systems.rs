@@ -35,9 +35,9 @@ pub enum AsyncSet {
 
 const TIMING: u64 = 0x7131_0000;
 /// Stream tags of the duration draws.
-const IDLE: u64 = 1;
-const COMPUTE: u64 = 2;
-const MOVE: u64 = 3;
+pub(crate) const IDLE: u64 = 1;
+pub(crate) const COMPUTE: u64 = 2;
+pub(crate) const MOVE: u64 = 3;
 /// The draw of a random start.
 pub(crate) const START: u64 = 4;
 

@@ -114,6 +114,65 @@ impl<P: IndexPoint> Simulation<P> {
         views
     }
 
+    /// ASYNC: every phase duration the run has used so far (drawn, or given by
+    /// [`AsyncSpec::durations`](crate::AsyncSpec::durations)), by robot, cycle and phase,
+    /// in the form `scheduler.durations` gives them: a run given all of them replays
+    /// this one whatever its distributions. Empty for the round schedulers.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use monoculus_core::algorithms::ConvergeLocality;
+    /// use monoculus_engine::prelude::*;
+    ///
+    /// let async_spec = AsyncSpec { idle: TickDist::Uniform { min: 1, max: 5 }, ..AsyncSpec::default() };
+    /// let config = SimConfig {
+    ///     scheduler: SchedulerSpec::Async(async_spec),
+    ///     ..SimConfig::paper(AlgorithmBox::new(ConvergeLocality), 1, 100)
+    /// };
+    /// let mut sim = Simulation::new(config, vec![DVec2::ZERO, DVec2::new(5.0, 0.0)]).unwrap();
+    /// sim.run();
+    /// let used = sim.drawn_durations();
+    /// assert!(used.iter().any(|g| g.cycle == 0 && g.robot == 1));
+    /// ```
+    pub fn drawn_durations(&self) -> Vec<asynchrony::GivenDuration> {
+        use asynchrony::{COMPUTE, GivenDuration, IDLE, MOVE};
+        let SchedulerSpec::Async(spec) = &self.config.scheduler else {
+            return Vec::new();
+        };
+        let params = self.world.resource::<Params>();
+        let clocks = &self.world.resource::<Clocks<P>>().0;
+        let mut out = Vec::new();
+        for (r, t) in clocks.iter().enumerate() {
+            let r32 = r as u32;
+            let draw = |cycle: u64, tag: u64, dist: crate::TickDist| {
+                duration(params, r32, cycle, tag, dist)
+            };
+            let give = |cycle: u64, phase: Phase, ticks: u64| GivenDuration {
+                robot: r32,
+                cycle,
+                phase,
+                ticks,
+            };
+            if spec.start == AsyncStart::Random {
+                out.push(give(0, Phase::Idle, draw(0, START, spec.idle)));
+            }
+            // After k Looks: the Computes of cycles 0..k; the Move of cycle u once its
+            // Compute ended, and the Idle of cycle u + 1 once that Move ended.
+            let k = t.cycle;
+            for u in 0..k {
+                out.push(give(u, Phase::Compute, draw(u, COMPUTE, spec.compute)));
+                let last = u + 1 == k;
+                if !last || t.phase != Phase::Compute {
+                    out.push(give(u, Phase::Move, draw(u + 1, MOVE, spec.motion)));
+                }
+                if !last || t.phase == Phase::Idle {
+                    out.push(give(u + 1, Phase::Idle, draw(u + 1, IDLE, spec.idle)));
+                }
+            }
+        }
+        out
+    }
+
     /// The colour each robot shows now, by robot: an index into the algorithm's lights
     /// ([`AlgorithmBox::lights`](crate::AlgorithmBox::lights)); empty when it has none.
     /// Under ASYNC a robot shows the colour its last ended Compute set.
