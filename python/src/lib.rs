@@ -5,6 +5,7 @@
 
 mod algorithm;
 mod convert;
+mod declare;
 mod observation;
 mod simulation;
 mod threads;
@@ -21,8 +22,9 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::algorithm::{Errors, Spec};
+use crate::algorithm::Errors;
 use crate::convert::{AlgorithmError, ConfigError};
+use crate::declare::Spec;
 
 /// Runs `work` on a thread of its own while this one, detached from Python, checks for
 /// Ctrl-C every 50 ms: then `interrupt` is set (the work stops at the end of its current
@@ -106,7 +108,7 @@ fn run(
     force: bool,
 ) -> PyResult<()> {
     let errors: Errors = Arc::new(Mutex::new(None));
-    let registry = algorithm::registry(&algorithms, &errors)?;
+    let registry = declare::registry(&algorithms, &errors)?;
     let (exp, _) = convert::experiment(py, config, set, &registry)?;
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads: at least 1"));
@@ -154,7 +156,7 @@ fn hunt(
 ) -> PyResult<String> {
     use monoculus_experiments::hunt::{FolderWriter, Hunt, HuntOptions, HuntReport};
     let errors: Errors = Arc::new(Mutex::new(None));
-    let registry = algorithm::registry(&algorithms, &errors)?;
+    let registry = declare::registry(&algorithms, &errors)?;
     let (exp, path) = convert::experiment(py, config, set, &registry)?;
     let label = path.map_or_else(|| convert::DICT.to_string(), |p| p.display().to_string());
     let picked = match (cell, exp.cells.len()) {
@@ -192,7 +194,7 @@ fn hunt(
         let report = pool.install(|| {
             hunt.run(&HuntOptions {
                 interrupt: Some(flag),
-                on_progress: None,
+                on_progress: Some(&|_| writer.on_progress()),
                 on_best: Some(&|r: &HuntReport| writer.on_best(r)),
             })
         });
@@ -209,7 +211,7 @@ fn hunt(
 fn check_algorithm(declaration: &Bound<'_, PyDict>) -> PyResult<()> {
     Spec::read(declaration)?;
     let errors: Errors = Arc::new(Mutex::new(None));
-    algorithm::registry(std::slice::from_ref(declaration), &errors).map(|_| ())
+    declare::registry(std::slice::from_ref(declaration), &errors).map(|_| ())
 }
 
 /// A row of `monoculus.algorithms()`: name, source, sensing, stop, goal, lights.
@@ -219,7 +221,7 @@ type AlgorithmRow = (String, String, String, String, String, Vec<String>);
 #[pyfunction]
 fn algorithm_table(declarations: Vec<Bound<'_, PyDict>>) -> PyResult<Vec<AlgorithmRow>> {
     let errors: Errors = Arc::new(Mutex::new(None));
-    let registry = algorithm::registry(&declarations, &errors)?;
+    let registry = declare::registry(&declarations, &errors)?;
     let builtin = monoculus_experiments::Registry::builtin();
     registry
         .names()
@@ -263,6 +265,8 @@ fn quiet_algorithm_panics() {
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     quiet_algorithm_panics();
+    // The package's version is the crate's (pyproject.toml takes it from Cargo.toml).
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check_algorithm, m)?)?;
     m.add_function(wrap_pyfunction!(algorithm_table, m)?)?;

@@ -95,7 +95,7 @@ impl Simulation {
         algorithms: Vec<Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let errors: Errors = Arc::new(Mutex::new(None));
-        let registry = crate::algorithm::registry(&algorithms, &errors)?;
+        let registry = crate::declare::registry(&algorithms, &errors)?;
         let (exp, _) = crate::convert::experiment(py, config, set, &registry)?;
         let Some(c) = exp.cells.get(cell) else {
             return Err(PyIndexError::new_err(format!(

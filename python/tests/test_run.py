@@ -81,3 +81,13 @@ def test_a_dict_configs_errors_name_the_key_and_no_line(small):
     with pytest.raises(monoculus.ConfigError) as e:
         monoculus.run(small, set={"swarm.n": 0})
     assert str(e.value).startswith("set: swarm.n: must be at least 1"), str(e.value)
+
+
+def test_the_version_is_the_workspaces(root):
+    import importlib.metadata
+    import re
+
+    cargo = (root / "Cargo.toml").read_text()
+    version = re.search(r'^version = "(.*)"$', cargo, flags=re.M).group(1)
+    assert monoculus.__version__ == version
+    assert importlib.metadata.version("monoculus") == version

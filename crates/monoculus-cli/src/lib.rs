@@ -29,6 +29,7 @@ pub fn main_with(name: &'static str, registry: &Registry) -> ExitCode {
     // A signal leaves every output as it was: temporaries removed, exit status 130.
     monoculus_experiments::output::remove_temporaries_on_signal();
     quiet_algorithm_panics();
+    commands::set_bin_name(name);
     let matches = Cli::command().name(name).bin_name(name).get_matches();
     let cli = match Cli::from_arg_matches(&matches) {
         Ok(cli) => cli,

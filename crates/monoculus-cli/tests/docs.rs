@@ -174,3 +174,41 @@ fn every_page_links_the_glossary_and_the_glossary_defines_the_words() {
         );
     }
 }
+
+/// The house stays within its sizes: a page of docs/ holds at most 400 lines (tables
+/// made by scripts, `*-table.md`, excepted), a source file at most 600; past that, a page
+/// or a module is split along a seam a reader would look for.
+#[test]
+fn pages_and_source_files_stay_within_their_sizes() {
+    let root = root();
+    let mut too_long = Vec::new();
+    for page in pages() {
+        let name = page.file_name().unwrap().to_string_lossy().to_string();
+        let lines = std::fs::read_to_string(&page).unwrap().lines().count();
+        if !name.ends_with("-table.md") && lines > 400 {
+            too_long.push(format!("docs/{name}: {lines} lines (at most 400)"));
+        }
+    }
+    let mut sources = Vec::new();
+    for dir in ["crates", "python/src", "examples", "benches"] {
+        user_files(&root.join(dir), &[".rs"], &mut sources);
+    }
+    let sources: Vec<PathBuf> = sources
+        .into_iter()
+        .filter(|p| {
+            let s = p.to_string_lossy();
+            s.contains("/src/") && !s.contains("/target/")
+        })
+        .collect();
+    assert!(sources.len() > 50, "{}", sources.len());
+    for file in sources {
+        let lines = std::fs::read_to_string(&file).unwrap().lines().count();
+        if lines > 600 {
+            too_long.push(format!(
+                "{}: {lines} lines (at most 600)",
+                file.strip_prefix(&root).unwrap_or(&file).display()
+            ));
+        }
+    }
+    assert!(too_long.is_empty(), "{}", too_long.join("\n"));
+}

@@ -12,7 +12,7 @@
 use std::path::Path;
 
 use monoculus_experiments::output::AtomicFile;
-use monoculus_experiments::output::json::{number, string as text};
+use monoculus_experiments::output::json;
 
 use monoculus_experiments::replay::Replay;
 use plotters::prelude::*;
@@ -61,11 +61,6 @@ fn u32s(values: impl IntoIterator<Item = u32>) -> String {
     )
 }
 
-fn list<T>(items: &[T], f: impl Fn(&T) -> String) -> String {
-    let v: Vec<String> = items.iter().map(f).collect();
-    format!("[{}]", v.join(","))
-}
-
 /// The colour of light `k` of an algorithm's palette, as the replay page and the GIF
 /// draw it: Tableau's ten qualitative colours, then hues a golden angle apart.
 ///
@@ -105,9 +100,65 @@ pub fn light_colour(k: usize) -> (u8, u8, u8) {
     (to(r), to(g), to(b))
 }
 
-/// The replay's data as the page reads it.
+/// The replay's data as the page reads it: numbers in base64 little-endian arrays.
+#[derive(serde::Serialize)]
+struct PageData<'a> {
+    title: &'a str,
+    subtitle: &'a str,
+    outcome: &'a str,
+    verdict: &'a str,
+    dim: usize,
+    n: usize,
+    drawn: usize,
+    sample: usize,
+    stride: usize,
+    ticks: bool,
+    model: &'a str,
+    locality: f64,
+    termination: bool,
+    lights: &'a [String],
+    light_colors: Vec<String>,
+    notes: &'a [String],
+    looks_note: Option<&'a str>,
+    start: String,
+    frames: PageFrames,
+    metrics: PageMetrics<'a>,
+    looks: PageLooks,
+}
+
+#[derive(serde::Serialize)]
+struct PageFrames {
+    step: Vec<u64>,
+    row: Vec<u64>,
+    pos: String,
+    state: String,
+    bits: String,
+    light: String,
+    hull_off: Vec<u64>,
+    hull: String,
+}
+
+#[derive(serde::Serialize)]
+struct PageMetrics<'a> {
+    time: &'a [u64],
+    epoch: &'a [u64],
+    hull: &'a [f64],
+    diameter: &'a [f64],
+    moving: &'a [u64],
+}
+
+#[derive(serde::Serialize)]
+struct PageLooks {
+    frame: String,
+    robot: String,
+    dest: String,
+    off: String,
+    seen: String,
+    flags: String,
+}
+
+/// The replay's data as the page reads it (JSON, safe inside the page's `<script>`).
 pub fn replay_json(r: &Replay) -> String {
-    let drawn = r.start.len() / r.dim;
     let mut hull_off = vec![0u64];
     for f in &r.frames {
         hull_off.push(hull_off.last().copied().unwrap_or(0) + f.hull.len() as u64);
@@ -116,85 +167,79 @@ pub fn replay_json(r: &Replay) -> String {
     for l in &r.looks {
         look_off.push(look_off.last().copied().unwrap_or(0) + l.seen.len() as u32);
     }
-    let frames = format!(
-        "{{\"step\":{},\"row\":{},\"pos\":\"{}\",\"state\":\"{}\",\"bits\":\"{}\",\"light\":\"{}\",\"hull_off\":{},\"hull\":\"{}\"}}",
-        list(&r.frames, |f| f.step.to_string()),
-        list(&r.frames, |f| f.row.to_string()),
-        f32s(r.frames.iter().flat_map(|f| f.positions.iter().copied())),
+    let bytes = |f: &dyn Fn(&monoculus_experiments::replay::Frame) -> &[u8]| {
         base64(
             &r.frames
                 .iter()
-                .flat_map(|f| f.states.iter().copied())
-                .collect::<Vec<u8>>()
-        ),
-        if r.termination {
-            base64(
-                &r.frames
-                    .iter()
-                    .flat_map(|f| f.bits.iter().copied())
-                    .collect::<Vec<u8>>(),
-            )
+                .flat_map(|x| f(x).iter().copied())
+                .collect::<Vec<u8>>(),
+        )
+    };
+    let frames = PageFrames {
+        step: r.frames.iter().map(|f| f.step as u64).collect(),
+        row: r.frames.iter().map(|f| f.row as u64).collect(),
+        pos: f32s(r.frames.iter().flat_map(|f| f.positions.iter().copied())),
+        state: bytes(&|f| &f.states),
+        bits: if r.termination {
+            bytes(&|f| &f.bits)
         } else {
             String::new()
         },
-        base64(
-            &r.frames
-                .iter()
-                .flat_map(|f| f.lights.iter().copied())
-                .collect::<Vec<u8>>()
-        ),
-        list(&hull_off, u64::to_string),
-        f32s(r.frames.iter().flat_map(|f| f.hull.iter().copied())),
-    );
-    let looks = format!(
-        "{{\"frame\":\"{}\",\"robot\":\"{}\",\"dest\":\"{}\",\"off\":\"{}\",\"seen\":\"{}\",\"flags\":\"{}\"}}",
-        u32s(r.looks.iter().map(|l| l.frame as u32)),
-        u32s(r.looks.iter().map(|l| l.robot)),
-        f32s(r.looks.iter().flat_map(|l| match &l.destination {
+        light: bytes(&|f| &f.lights),
+        hull_off,
+        hull: f32s(r.frames.iter().flat_map(|f| f.hull.iter().copied())),
+    };
+    let looks = PageLooks {
+        frame: u32s(r.looks.iter().map(|l| l.frame as u32)),
+        robot: u32s(r.looks.iter().map(|l| l.robot)),
+        dest: f32s(r.looks.iter().flat_map(|l| match &l.destination {
             Some(d) => d.clone(),
             None => vec![f32::NAN; r.dim],
         })),
-        u32s(look_off),
-        u32s(r.looks.iter().flat_map(|l| l.seen.iter().copied())),
-        base64(
+        off: u32s(look_off),
+        seen: u32s(r.looks.iter().flat_map(|l| l.seen.iter().copied())),
+        flags: base64(
             &r.looks
                 .iter()
                 .flat_map(|l| l.flags.iter().copied())
-                .collect::<Vec<u8>>()
+                .collect::<Vec<u8>>(),
         ),
-    );
+    };
     let m = &r.metrics;
-    let metrics = format!(
-        "{{\"time\":{},\"epoch\":{},\"hull\":{},\"diameter\":{},\"moving\":{}}}",
-        list(&m.time, u64::to_string),
-        list(&m.epoch, u64::to_string),
-        list(&m.hull, |&x| number(x)),
-        list(&m.diameter, |&x| number(x)),
-        list(&m.moving, u64::to_string),
-    );
-    format!(
-        "{{\"title\":{},\"subtitle\":{},\"outcome\":{},\"verdict\":{},\"dim\":{},\"n\":{},\"drawn\":{drawn},\"sample\":{},\"stride\":{},\"ticks\":{},\"model\":{},\"locality\":{},\"termination\":{},\"lights\":{},\"light_colors\":{},\"notes\":{},\"looks_note\":{},\"start\":\"{}\",\"frames\":{frames},\"metrics\":{metrics},\"looks\":{looks}}}",
-        text(&r.title),
-        text(&r.subtitle),
-        text(&r.outcome),
-        text(r.verdict),
-        r.dim,
-        r.n,
-        r.sample,
-        r.stride,
-        r.ticks,
-        text(r.model),
-        number(r.locality),
-        r.termination,
-        list(&r.lights, |s| text(s)),
-        list(&(0..r.lights.len()).collect::<Vec<_>>(), |&k| {
-            let (red, green, blue) = light_colour(k);
-            text(&format!("#{red:02x}{green:02x}{blue:02x}"))
-        }),
-        list(&r.notes, |s| text(s)),
-        r.looks_note.as_deref().map_or("null".to_string(), text),
-        f32s(r.start.iter().copied()),
-    )
+    json::to_string(&PageData {
+        title: &r.title,
+        subtitle: &r.subtitle,
+        outcome: &r.outcome,
+        verdict: r.verdict,
+        dim: r.dim,
+        n: r.n,
+        drawn: r.start.len() / r.dim,
+        sample: r.sample,
+        stride: r.stride,
+        ticks: r.ticks,
+        model: r.model,
+        locality: r.locality,
+        termination: r.termination,
+        lights: &r.lights,
+        light_colors: (0..r.lights.len())
+            .map(|k| {
+                let (red, green, blue) = light_colour(k);
+                format!("#{red:02x}{green:02x}{blue:02x}")
+            })
+            .collect(),
+        notes: &r.notes,
+        looks_note: r.looks_note.as_deref(),
+        start: f32s(r.start.iter().copied()),
+        frames,
+        metrics: PageMetrics {
+            time: &m.time,
+            epoch: &m.epoch,
+            hull: &m.hull,
+            diameter: &m.diameter,
+            moving: &m.moving,
+        },
+        looks,
+    })
 }
 
 /// The self-contained page of `replay`.
@@ -369,9 +414,33 @@ mod tests {
     }
 
     #[test]
-    fn text_cannot_close_the_script_element() {
-        let t = text("a</script>\"b\\\n");
-        assert!(!t.contains("</script>"));
-        assert_eq!(t, "\"a\\u003c/script\\u003e\\\"b\\\\\\u000a\"");
+    fn no_name_can_close_the_script_element() {
+        let r = Replay {
+            title: "a</script><script>alert(1)</script>".into(),
+            subtitle: "<!-- & -->".into(),
+            outcome: String::new(),
+            verdict: "converged",
+            dim: 2,
+            n: 1,
+            sample: 1,
+            stride: 1,
+            ticks: false,
+            model: "ld",
+            locality: 2.0,
+            termination: false,
+            lights: vec!["</script>".into()],
+            start: vec![0.0, 0.0],
+            frames: Vec::new(),
+            metrics: Default::default(),
+            looks: Vec::new(),
+            looks_note: None,
+            notes: vec!["</SCRIPT>".into()],
+        };
+        let page = replay_html(&r);
+        let closing = TEMPLATE.matches("</script>").count();
+        assert_eq!(page.to_lowercase().matches("</script>").count(), closing);
+        let data: serde_json::Value = serde_json::from_str(&replay_json(&r)).unwrap();
+        assert_eq!(data["title"], "a</script><script>alert(1)</script>");
+        assert_eq!(data["lights"][0], "</script>");
     }
 }

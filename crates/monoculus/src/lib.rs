@@ -43,6 +43,7 @@
 
 use std::process::ExitCode;
 
+pub use glam::{DVec2, DVec3};
 pub use monoculus_core::algorithms::{Algorithm, BadDecision};
 pub use monoculus_engine::{AlgorithmBox, RunOutcome, SimConfig, Simulation, StoppedBy};
 pub use monoculus_experiments::{Experiment, Registry, RunOptions, SweepReport, run_experiment};
@@ -52,14 +53,37 @@ pub use monoculus_experiments::{Experiment, Registry, RunOptions, SweepReport, r
 #[doc = include_str!("../../../docs/algorithms.md")]
 pub mod guide {}
 
+/// The guide's page on robots with state and lights (`docs/state-and-lights.md`; its code
+/// is compiled and run with the crate's tests).
+#[doc = include_str!("../../../docs/state-and-lights.md")]
+pub mod state_and_lights {}
+
+/// The paper's algorithms and the baselines, the same types the built-in names select:
+/// to compare with, wrap or call from an algorithm of your own.
+///
+/// ```
+/// use monoculus::DVec2;
+/// use monoculus::algorithms::ConvergeLocality;
+///
+/// let start = vec![DVec2::ZERO, DVec2::new(5.0, 0.0), DVec2::new(0.0, 5.0)];
+/// let config = monoculus::SimConfig::paper(monoculus::AlgorithmBox::new(ConvergeLocality), 0, 1000);
+/// assert!(monoculus::Simulation::new(config, start).unwrap().run().converged);
+/// ```
+pub mod algorithms {
+    pub use monoculus_core::algorithms::{
+        AngleBisector, CenterOfGravity, ConvergeLocality, ConvergeQuadrant,
+        ConvergeQuadrantTermination, Median,
+    };
+}
+
 /// One activation of `algorithm` by robot `robot` of the swarm at `positions`, for unit
 /// tests of an algorithm's rules: the paper's b = 1 and c = 2, exact lines of sight, no
 /// errors, the robot's frame and stream drawn from `seed` (a fresh state, if the
 /// algorithm keeps one). The global displacement, or `None` to stay.
 ///
 /// ```
-/// use glam::DVec2;
-/// use monoculus_core::algorithms::ConvergeLocality;
+/// use monoculus::DVec2;
+/// use monoculus::algorithms::ConvergeLocality;
 ///
 /// // The end robot of three on a line sees one robot: it moves toward it.
 /// let line = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(2.0, 0.0)];
@@ -87,9 +111,11 @@ pub fn activate_once<A: Algorithm, V: monoculus_core::geometry::Point>(
     )
 }
 
-/// What an algorithm's author needs: the trait and what its methods take and return.
+/// What an algorithm's author needs: the trait, what its methods take and return, and
+/// the vector types of the plane and of space.
 pub mod prelude {
     pub use crate::App;
+    pub use glam::{DVec2, DVec3};
     pub use monoculus_core::algorithms::{
         Algorithm, Decision, Directions, Goal, Ld, Lit, Model, NoParams, Observation, Ola,
         Positions, StopCriterion, along, empty_sides,

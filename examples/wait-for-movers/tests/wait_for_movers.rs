@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use glam::DVec2;
+use monoculus::DVec2;
 use monoculus::{AlgorithmBox, SimConfig, Simulation};
 use wait_for_movers::WaitForMovers;
 

@@ -36,7 +36,7 @@ __all__ = [
     "run",
 ]
 
-__version__ = "0.2.0"
+__version__: str = _native.__version__
 
 _REGISTERED: dict[str, dict[str, Any]] = {}
 

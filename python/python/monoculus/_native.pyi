@@ -12,6 +12,8 @@ import numpy.typing as npt
 Side = Literal["low", "high"]
 Vector = npt.NDArray[np.float64]
 
+__version__: str
+
 class ConfigError(ValueError):
     """A bad config, ``set`` or results folder; the message names the file, line and key."""
 

@@ -43,12 +43,15 @@ pub fn hunt(args: HuntArgs, registry: &Registry) -> Result<(), Failure> {
     let html = |replay: &monoculus_experiments::replay::Replay, path: &std::path::Path| {
         monoculus_plot::write_replay_html(replay, path).map_err(|e| e.to_string())
     };
-    // The best so far is written as it changes, so that a hunt stopped by a signal leaves
-    // it (marked not shrunk).
+    // A signal stops the hunt, which then writes its best (marked interrupted, not
+    // shrunk); the process exits with status 130 once that is done (when `graceful` is
+    // dropped). The best so far is also written as it changes, at most 2 s behind.
+    let graceful = monoculus_experiments::output::Graceful::enter();
     let writer = FolderWriter::new(&args.out, &hunt, registry, Some(&html));
     let last_line: Mutex<Option<Instant>> = Mutex::new(None);
     let quiet = args.quiet;
     let on_progress = |p: &Progress| {
+        writer.on_progress();
         let mut last = last_line.lock().expect("not poisoned");
         if quiet || last.is_some_and(|t| t.elapsed() < Duration::from_secs(1)) {
             return;
@@ -66,7 +69,7 @@ pub fn hunt(args: HuntArgs, registry: &Registry) -> Result<(), Failure> {
     };
     let report = pool.install(|| {
         hunt.run(&HuntOptions {
-            interrupt: None,
+            interrupt: Some(graceful.flag()),
             on_progress: Some(&on_progress),
             on_best: Some(&|r: &HuntReport| writer.on_best(r)),
         })
@@ -90,10 +93,12 @@ pub fn hunt(args: HuntArgs, registry: &Registry) -> Result<(), Failure> {
     };
     outln!("{}", describe(&exp.name, &report, unit));
     outln!(
-        "wrote {}; replay: monoculus run {} --out RESULTS",
+        "wrote {}; replay: {} run {} --out RESULTS",
         args.out.display(),
+        super::bin_name(),
         args.out.join("reproduce.toml").display()
     );
+    drop(graceful);
     Ok(())
 }
 
@@ -104,12 +109,22 @@ pub fn describe(name: &str, report: &HuntReport, unit: &str) -> String {
         "{} evaluations ({} shrinking, {} generations) in {:.1}s",
         report.evaluations, report.shrink_evaluations, report.generations, report.seconds
     );
+    let searched = if report.interrupted {
+        format!("{searched}, interrupted")
+    } else {
+        searched
+    };
     let property = report.property.name();
     match &report.best {
         Some(b) if report.property == monoculus_experiments::config::Property::Slow => format!(
-            "{name}: slow: worst found: {} {unit}s, {} epochs{} (n = {}); {searched}",
+            "{name}: slow: worst found: {} {unit}s{}{} (n = {}); {searched}",
             b.evaluation.rounds,
-            b.evaluation.epochs,
+            // Under ASYNC the run counts epochs already.
+            if unit == "epoch" || b.evaluation.epochs == b.evaluation.rounds {
+                String::new()
+            } else {
+                format!(", {} epochs", b.evaluation.epochs)
+            },
             if b.evaluation.converged {
                 ""
             } else {

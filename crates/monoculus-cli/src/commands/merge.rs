@@ -117,12 +117,13 @@ pub fn merge(args: MergeArgs, registry: &monoculus_experiments::Registry) -> Res
     if !report.written {
         let shards: Vec<String> = report.missing.iter().map(|m| m.shard.to_string()).collect();
         return Err(Failure::Other(anyhow::anyhow!(
-            "{}: {missing} of {} runs missing, in shard{} {}: rerun {} with `monoculus run CONFIG --out {} --shard I/N` (it resumes), or merge what is there with --partial",
+            "{}: {missing} of {} runs missing, in shard{} {}: rerun {} with `{} run CONFIG --out {} --shard I/N` (it resumes), or merge what is there with --partial",
             args.dir.display(),
             report.total,
             if shards.len() == 1 { "" } else { "s" },
             shards.join(", "),
             if shards.len() == 1 { "it" } else { "them" },
+            super::bin_name(),
             args.dir.display()
         )));
     }

@@ -229,6 +229,20 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Failure>
 }
 
 /// Runs a subcommand, then flushes standard output.
+/// The name of the binary that runs (`monoculus`, or a user's binary through `App`), as
+/// the messages that suggest a command name it.
+static BIN_NAME: std::sync::OnceLock<&'static str> = std::sync::OnceLock::new();
+
+/// Sets the name [`bin_name`] gives (once; later calls change nothing).
+pub fn set_bin_name(name: &'static str) {
+    let _ = BIN_NAME.set(name);
+}
+
+/// The running binary's name, for the commands a message suggests.
+pub fn bin_name() -> &'static str {
+    BIN_NAME.get().copied().unwrap_or("monoculus")
+}
+
 pub fn dispatch(cli: Cli, registry: &Registry) -> Result<(), Failure> {
     run_command(cli, registry)?;
     std::io::Write::flush(&mut std::io::stdout()).map_err(Failure::Stdout)

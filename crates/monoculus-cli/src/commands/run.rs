@@ -196,11 +196,12 @@ pub fn run(args: RunArgs, registry: &monoculus_experiments::Registry) -> Result<
             print_summary(&out.join("summary.csv"))?;
         }
         Some(s) => outln!(
-            "{}: shard {s}: ran {}, {} already done, into {}; when every shard is done: monoculus merge {}",
+            "{}: shard {s}: ran {}, {} already done, into {}; when every shard is done: {} merge {}",
             exp.name,
             monoculus_experiments::counted(report.ran, "run"),
             report.skipped,
             report.rows_path.display(),
+            super::bin_name(),
             out.display()
         ),
     }

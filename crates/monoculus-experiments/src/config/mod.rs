@@ -3,6 +3,7 @@
 //! errors naming the file, line and key.
 
 mod error;
+mod hunt_spec;
 mod locate;
 mod overrides;
 mod spec;
@@ -27,6 +28,7 @@ use monoculus_engine::{
 
 pub use error::ConfigError;
 use error::Source;
+pub use hunt_spec::*;
 pub use locate::{key_at_line, line_of, line_of_offset};
 pub use overrides::apply_override;
 pub use spec::*;

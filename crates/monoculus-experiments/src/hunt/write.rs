@@ -70,7 +70,7 @@ pub fn write_found(
             }
         }
         let durations_path = dir.join("durations.csv");
-        match super::search::durations_of(&c.durations) {
+        match super::evaluate::durations_of(&c.durations) {
             Some(given) => {
                 let text = crate::durations::durations_csv(&given);
                 write_atomic(&durations_path, text.as_bytes()).map_err(io)?;
@@ -189,78 +189,84 @@ fn reproduce_toml(hunt: &Hunt, best: &Found) -> String {
         spec.stop.max_rounds = e.round.max(1);
     }
     format!(
-        "# Written by `monoculus hunt`: {}.\n# Replay it with `monoculus run reproduce.toml --out DIR` (or `monoculus replay`).\n{}",
+        "# Written by `monoculus hunt`: {}.\n# Replay it with the `run` (or `replay`) command of the binary that found it: `monoculus run reproduce.toml --out DIR`, or your own binary's.\n{}",
         shows(hunt, best),
         toml::to_string(&spec).expect("a RunSpec serialises")
     )
+}
+
+/// summary.json: the property, what was found, and how much was searched (the fields
+/// of the best run are `null` while there is none).
+#[derive(serde::Serialize)]
+struct Summary<'a> {
+    property: &'a str,
+    found: bool,
+    shrunk: bool,
+    interrupted: bool,
+    score: Option<f64>,
+    n: Option<usize>,
+    round: Option<u64>,
+    rounds: Option<u64>,
+    epochs: Option<u64>,
+    converged: Option<bool>,
+    stuck: Option<bool>,
+    stopped_by: Option<&'a str>,
+    goal: &'a str,
+    above: Option<f64>,
+    run_seed: Option<u64>,
+    evaluations: u64,
+    shrink_evaluations: u64,
+    generations: u64,
+    seconds: f64,
+    seed: u64,
+    algorithm: &'a str,
+    scheduler: &'a str,
+    subsets_searched: bool,
+    durations_searched: bool,
+    durations_given: Option<usize>,
+    n_min: usize,
+    n_max: usize,
+    max_rounds: u64,
+    failures: u64,
+    first_failure: Option<&'a str>,
 }
 
 /// summary.json: the property, what was found, and how much was searched.
 pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
     let best = report.best.as_ref();
     let e = best.map(|b| &b.evaluation);
-    let fields: Vec<(&str, String)> = vec![
-        ("property", json::string(report.property.name())),
-        ("found", report.found.to_string()),
-        ("shrunk", report.shrunk.to_string()),
-        ("interrupted", report.interrupted.to_string()),
-        ("score", e.map_or("null".into(), |e| json::number(e.score))),
-        (
-            "n",
-            best.map_or("null".into(), |b| b.candidate.len().to_string()),
-        ),
-        ("round", e.map_or("null".into(), |e| e.round.to_string())),
-        ("rounds", e.map_or("null".into(), |e| e.rounds.to_string())),
-        ("epochs", e.map_or("null".into(), |e| e.epochs.to_string())),
-        (
-            "converged",
-            e.map_or("null".into(), |e| e.converged.to_string()),
-        ),
-        ("stuck", e.map_or("null".into(), |e| e.stuck.to_string())),
-        (
-            "stopped_by",
-            e.and_then(|e| e.stopped_by)
-                .map_or("null".into(), |s| json::string(s.name())),
-        ),
-        ("goal", json::string(hunt.cell.goal().name())),
-        ("above", hunt.spec.above.map_or("null".into(), json::number)),
-        (
-            "run_seed",
-            best.map_or("null".into(), |b| b.candidate.seed.to_string()),
-        ),
-        ("evaluations", report.evaluations.to_string()),
-        ("shrink_evaluations", report.shrink_evaluations.to_string()),
-        ("generations", report.generations.to_string()),
-        ("seconds", format!("{:.3}", report.seconds)),
-        ("seed", hunt.spec.seed.to_string()),
-        ("algorithm", json::string(hunt.cell.algorithm().name())),
-        (
-            "scheduler",
-            json::string(hunt.cell.sim_config(0).scheduler.name()),
-        ),
-        ("subsets_searched", hunt.subsets.to_string()),
-        ("durations_searched", hunt.durations.to_string()),
-        (
-            "durations_given",
-            best.map_or("null".into(), |b| b.candidate.durations.len().to_string()),
-        ),
-        ("n_min", hunt.n_min.to_string()),
-        ("n_max", hunt.n_max.to_string()),
-        ("max_rounds", hunt.max_rounds.to_string()),
-        ("failures", report.failures.to_string()),
-        (
-            "first_failure",
-            report
-                .first_failure
-                .as_deref()
-                .map_or("null".into(), json::string),
-        ),
-    ];
-    let body: Vec<String> = fields
-        .iter()
-        .map(|(k, v)| format!("  {}: {v}", json::string(k)))
-        .collect();
-    format!("{{\n{}\n}}\n", body.join(",\n"))
+    json::to_string_pretty(&Summary {
+        property: report.property.name(),
+        found: report.found,
+        shrunk: report.shrunk,
+        interrupted: report.interrupted,
+        score: e.map(|e| e.score),
+        n: best.map(|b| b.candidate.len()),
+        round: e.map(|e| e.round),
+        rounds: e.map(|e| e.rounds),
+        epochs: e.map(|e| e.epochs),
+        converged: e.map(|e| e.converged),
+        stuck: e.map(|e| e.stuck),
+        stopped_by: e.and_then(|e| e.stopped_by).map(|s| s.name()),
+        goal: hunt.cell.goal().name(),
+        above: hunt.spec.above,
+        run_seed: best.map(|b| b.candidate.seed),
+        evaluations: report.evaluations,
+        shrink_evaluations: report.shrink_evaluations,
+        generations: report.generations,
+        seconds: (report.seconds * 1000.0).round() / 1000.0,
+        seed: hunt.spec.seed,
+        algorithm: hunt.cell.algorithm().name(),
+        scheduler: hunt.cell.sim_config(0).scheduler.name(),
+        subsets_searched: hunt.subsets,
+        durations_searched: hunt.durations,
+        durations_given: best.map(|b| b.candidate.durations.len()),
+        n_min: hunt.n_min,
+        n_max: hunt.n_max,
+        max_rounds: hunt.max_rounds,
+        failures: report.failures,
+        first_failure: report.first_failure.as_deref(),
+    })
 }
 
 /// Writes a hunt's folder as the hunt goes: at once for a counterexample, at most every
@@ -281,6 +287,7 @@ pub fn summary_json(hunt: &Hunt, report: &HuntReport) -> String {
 /// let writer = FolderWriter::new(dir.path(), &hunt, &registry, None); // no replay page
 /// let report = hunt.run(&HuntOptions {
 ///     on_best: Some(&|r| writer.on_best(r)),
+///     on_progress: Some(&|_| writer.on_progress()),
 ///     ..HuntOptions::default()
 /// });
 /// writer.finish(&report)?;
@@ -294,6 +301,8 @@ pub struct FolderWriter<'a> {
     registry: &'a Registry,
     html: Option<&'a HtmlWriter<'a>>,
     last: std::sync::Mutex<Option<std::time::Instant>>,
+    /// A best not written yet (it came within [`FolderWriter::EVERY`] of the last write).
+    pending: std::sync::Mutex<Option<HuntReport>>,
     failed: std::sync::Mutex<Option<String>>,
 }
 
@@ -314,18 +323,47 @@ impl<'a> FolderWriter<'a> {
             registry,
             html,
             last: std::sync::Mutex::new(None),
+            pending: std::sync::Mutex::new(None),
             failed: std::sync::Mutex::new(None),
         }
     }
 
-    /// For [`HuntOptions::on_best`].
+    /// For [`HuntOptions::on_best`]: a counterexample is written at once, another best
+    /// once [`FolderWriter::EVERY`] has passed since the last write (kept until then, and
+    /// written by [`FolderWriter::on_progress`] or [`FolderWriter::finish`]).
     pub fn on_best(&self, report: &HuntReport) {
-        let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
         let violated = report.best.as_ref().is_some_and(|b| b.evaluation.violated);
+        let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
+        let mut pending = self.pending.lock().unwrap_or_else(|p| p.into_inner());
         if !violated && last.is_some_and(|t| t.elapsed() < Self::EVERY) {
+            *pending = Some(report.clone());
             return;
         }
+        *pending = None;
         *last = Some(std::time::Instant::now());
+        self.write(report);
+    }
+
+    /// For [`HuntOptions::on_progress`]: writes a best kept back by
+    /// [`FolderWriter::on_best`] once [`FolderWriter::EVERY`] has passed, so that the
+    /// folder is never more than about that much behind the hunt.
+    pub fn on_progress(&self) {
+        let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
+        if last.is_some_and(|t| t.elapsed() < Self::EVERY) {
+            return;
+        }
+        let pending = self
+            .pending
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .take();
+        if let Some(report) = pending {
+            *last = Some(std::time::Instant::now());
+            self.write(&report);
+        }
+    }
+
+    fn write(&self, report: &HuntReport) {
         if let Err(e) = write_found(self.dir, self.hunt, report, self.registry, self.html) {
             self.failed
                 .lock()

@@ -5,8 +5,8 @@
 use std::fs::{self, File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, LazyLock, Mutex};
 
 use super::OutputError;
 
@@ -46,8 +46,9 @@ pub fn remove_temporaries_on_signal() {
 
 /// [`Together`] sections open now.
 static TOGETHER: AtomicUsize = AtomicUsize::new(0);
-/// A signal arrived (the process exits when no [`Together`] section is open).
-static PENDING_EXIT: AtomicBool = AtomicBool::new(false);
+/// A signal arrived (the process exits when no [`Together`] section is open): the flag
+/// [`Graceful::flag`] hands out.
+static PENDING_EXIT: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
 /// Someone is exiting: nobody else calls `exit`.
 static EXITING: AtomicBool = AtomicBool::new(false);
 
@@ -86,6 +87,39 @@ impl Together {
     pub fn enter() -> Together {
         TOGETHER.fetch_add(1, Ordering::SeqCst);
         Together(())
+    }
+}
+
+/// A piece of work that a signal ends gracefully (a hunt): while the guard lives, a
+/// signal ([`remove_temporaries_on_signal`]'s handlers) sets [`Graceful::flag`] instead
+/// of exiting; the work polls the flag, stops, and saves what it has; the process exits
+/// with status [`INTERRUPTED`] when the guard is dropped.
+///
+/// ```
+/// use monoculus_experiments::output::Graceful;
+/// use std::sync::atomic::Ordering;
+///
+/// let graceful = Graceful::enter();
+/// let stop = graceful.flag();
+/// while !stop.load(Ordering::Relaxed) {
+///     // ... one step of the work ...
+///     break;
+/// }
+/// // ... save what the work has ...
+/// drop(graceful); // exits with status 130 here if a signal came
+/// ```
+#[must_use = "the section ends when the guard is dropped"]
+pub struct Graceful(Together);
+
+impl Graceful {
+    /// Opens a section.
+    pub fn enter() -> Graceful {
+        Graceful(Together::enter())
+    }
+
+    /// Set when a signal has come (it stays set).
+    pub fn flag(&self) -> Arc<AtomicBool> {
+        PENDING_EXIT.clone()
     }
 }
 

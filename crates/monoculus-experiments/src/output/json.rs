@@ -1,44 +1,64 @@
-//! JSON values written by hand (summary.json, the replay page's data): strings escaped
-//! so that they are also safe inside an HTML `<script>`, non-finite numbers as `null`.
+//! JSON as monoculus writes it (summary.json, the replay page's data): serde_json's,
+//! made safe to embed in an HTML `<script>` element. `<`, `>` and `&` are written
+//! `\u003c`, `\u003e` and `\u0026` (only a string can hold them, and JSON reads the
+//! escapes back as the same characters), so that no value can close the element; a
+//! number that is not finite is `null`, as serde_json writes it.
 
-use std::fmt::Write as _;
+use serde::Serialize;
 
-/// `s` as a JSON string literal, with `<`, `>` and `&` escaped too.
+/// `value` as compact JSON, safe inside a `<script>` element.
 ///
 /// ```
 /// use monoculus_experiments::output::json;
-/// assert_eq!(json::string("a\"b</script>"), r#""a\"b\u003c/script\u003e""#);
+///
+/// #[derive(serde::Serialize)]
+/// struct Named<'a> {
+///     name: &'a str,
+///     score: f64,
+/// }
+///
+/// let written = json::to_string(&Named { name: "a\"b</script>", score: f64::NAN });
+/// assert_eq!(written, r#"{"name":"a\"b\u003c/script\u003e","score":null}"#);
 /// ```
-pub fn string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '<' => out.push_str("\\u003c"),
-            '>' => out.push_str("\\u003e"),
-            '&' => out.push_str("\\u0026"),
-            c if (c as u32) < 0x20 => {
-                let _ = write!(out, "\\u{:04x}", c as u32);
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
+pub fn to_string<T: Serialize + ?Sized>(value: &T) -> String {
+    script_safe(serde_json::to_string(value).expect("a report serialises to JSON"))
 }
 
-/// `x` as a JSON number (the shortest form that reads back to it); `null` if not finite.
+/// `value` as JSON indented by two spaces, with a final line break, safe inside a
+/// `<script>` element.
 ///
 /// ```
 /// use monoculus_experiments::output::json;
-/// assert_eq!(json::number(0.5), "0.5");
-/// assert_eq!(json::number(f64::NAN), "null");
+///
+/// let written = json::to_string_pretty(&[("found", true)]);
+/// assert_eq!(written, "[\n  [\n    \"found\",\n    true\n  ]\n]\n");
 /// ```
-pub fn number(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x}")
-    } else {
-        "null".to_string()
+pub fn to_string_pretty<T: Serialize + ?Sized>(value: &T) -> String {
+    let mut s =
+        script_safe(serde_json::to_string_pretty(value).expect("a report serialises to JSON"));
+    s.push('\n');
+    s
+}
+
+fn script_safe(json: String) -> String {
+    if !json.contains(['<', '>', '&']) {
+        return json;
+    }
+    json.replace('<', "\\u003c")
+        .replace('>', "\\u003e")
+        .replace('&', "\\u0026")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn what_is_written_reads_back_as_it_was() {
+        let names = ["</script>", "a & b", "<!--", "\"quoted\"\n\\", "\u{1}é"];
+        let written = to_string(&names);
+        assert!(!written.contains(['<', '>', '&']), "{written}");
+        let read: Vec<String> = serde_json::from_str(&written).unwrap();
+        assert_eq!(read, names);
     }
 }

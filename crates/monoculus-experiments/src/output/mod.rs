@@ -7,7 +7,7 @@
 //!   previous file as it was ([`remove_temporaries_on_signal`]).
 //! - [`Paths`]: a command's inputs and outputs, checked to be distinct files.
 //! - [`unique_stems`]: file names for a list of outputs, distinct whatever their labels.
-//! - [`json`]: JSON strings and numbers for the files written by hand.
+//! - [`json`]: JSON (serde_json), safe to embed in a page's `<script>`.
 
 mod atomic;
 pub mod json;
@@ -15,7 +15,8 @@ mod names;
 mod paths;
 
 pub use atomic::{
-    AtomicFile, INTERRUPTED, Together, create_if_absent, remove_temporaries_on_signal, write_atomic,
+    AtomicFile, Graceful, INTERRUPTED, Together, create_if_absent, remove_temporaries_on_signal,
+    write_atomic,
 };
 pub use names::unique_stems;
 pub use paths::Paths;
