@@ -98,18 +98,28 @@ whole paper_vs_n configs/paper/vs_n.toml > /dev/null
 whole paper_vs_side configs/paper/vs_side.toml > /dev/null
 paper=$(python3 -c "print(f'{$(date +%s.%N) - $t0:.2f}')")
 ours=$(whole numpy_comparison configs/bench/numpy_comparison.toml --threads 1)
+# Small runs: the whole process's elapsed time per run (making and tearing down each
+# run counts), one thread; and the hunt's evaluations per second.
+t0=$(date +%s.%N)
+"$bin" run configs/bench/small_runs.toml --out "$out/small_runs" --force --threads 1 > /dev/null
+small=$(python3 -c "print(f'{($(date +%s.%N) - $t0) / 20000 * 1e6:.1f}')")
+t0=$(date +%s.%N)
+"$bin" hunt configs/hunt/converge_locality.toml --out "$out/hunt" --quiet \
+    --set hunt.evaluations=40000 > /dev/null
+hunt_rate=$(python3 -c "print(f'{40000 / ($(date +%s.%N) - $t0):.0f}')")
 if python3 -c "import numpy" 2> /dev/null; then
     numpy=$(python3 scripts/numpy_baseline.py | sed -n 's/.*wall_s=\([0-9.]*\).*/\1/p')
 else
     numpy=""
 fi
 
-python3 - "$cl5" "$two_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$fsync_act" "$coarse_act" "$fine_act" "$async5" "$fsync5" "$coarse_long" "$fine_ratio" "$vs4" "$vs5" "$async_two_one" "$numpy" <<'PY'
+python3 - "$cl5" "$two_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$fsync_act" "$coarse_act" "$fine_act" "$async5" "$fsync5" "$coarse_long" "$fine_ratio" "$vs4" "$vs5" "$async_two_one" "$numpy" "$small" "$hunt_rate" <<'PY'
 import sys
 cl5, two_one, lattice, cl6, cl6_mb, cq6, cq6_mb, cl_run, cq_run, paper, ours = map(float, sys.argv[1:12])
 fsync_act, coarse_act, fine_act, async5, fsync5, coarse_long = map(float, sys.argv[12:18])
 fine_ratio, vs4, vs5, async_two_one = map(float, sys.argv[18:22])
 numpy = float(sys.argv[22]) if sys.argv[22] else None
+small, hunt_rate = float(sys.argv[23]), float(sys.argv[24])
 # Rounds are means over the rounds of the best stress run (the first round of
 # ConvergeQuadrant builds what later rounds reuse, and counts in its mean); ratios
 # the median over alternated pairs, with each side's median figure.
@@ -127,6 +137,8 @@ rows = [
     ("ASYNC coarse against FSYNC, n = 10^4, per activation (us: %.2f against %.2f)" % (coarse_long, fsync_act), vs4, vs4 <= 2, "<= 2x"),
     ("ASYNC coarse against FSYNC, n = 10^5, per activation (us: %.2f against %.2f)" % (async5, fsync5), vs5, vs5 <= 2, "<= 2x"),
     ("ASYNC 2 threads against 1, n = 10^5", async_two_one, async_two_one >= 1.6, ">= 1.6x"),
+    ("small runs: n = 10 to convergence, one thread, whole process (us a run)", small, small <= 25, "<= 25"),
+    ("hunt of configs/hunt/converge_locality.toml, 2 threads (evaluations/s)", hunt_rate, hunt_rate >= 3 * 18000, ">= 54000 (3x the 18,000 before kept worlds)"),
 ]
 if numpy is not None:
     rows.append(("numpy against monoculus (1 thread)", numpy / ours, numpy / ours >= 100, ">= 100x"))

@@ -40,6 +40,11 @@ pub(crate) struct Setup<'a, P: IndexPoint> {
 pub(crate) trait Install<P: IndexPoint>: Send + Sync {
     /// Spawns the robots, inserts the algorithm and wires its systems.
     fn install(&self, setup: Setup<'_, P>) -> Hooks;
+    /// Spawns the robots and inserts the algorithm into a world whose schedule is wired
+    /// for this algorithm's type already (a run started again: [`Simulation::restart`](crate::Simulation::restart)).
+    fn reinstall(&self, setup: Setup<'_, P>);
+    /// The algorithm's type, for which a schedule is wired.
+    fn algorithm_type(&self) -> std::any::TypeId;
 }
 
 struct Held<A>(Arc<A>);
@@ -47,6 +52,14 @@ struct Held<A>(Arc<A>);
 impl<P: IndexPoint, A: Algorithm> Install<P> for Held<A> {
     fn install(&self, setup: Setup<'_, P>) -> Hooks {
         crate::simulation::install::<P, A>(self.0.clone(), setup)
+    }
+
+    fn reinstall(&self, setup: Setup<'_, P>) {
+        crate::simulation::populate::<P, A>(self.0.clone(), setup);
+    }
+
+    fn algorithm_type(&self) -> std::any::TypeId {
+        std::any::TypeId::of::<A>()
     }
 }
 

@@ -139,11 +139,12 @@ pub fn run_one_stoppable(
         on_round: &mut dyn FnMut(u64, f64),
         interrupt: Option<&Arc<AtomicBool>>,
     ) -> Result<RunOutcome, EngineError> {
-        let mut sim = Simulation::<P>::new(cell.sim_config(seed), cell.initial_positions(seed))?;
-        if let Some(flag) = interrupt {
-            sim.set_interrupt(flag.clone());
-        }
-        Ok(sim.run_with(|r| on_round(r.round, r.diameter)))
+        with_simulation::<P, _>(cell.sim_config(seed), cell.initial_positions(seed), |sim| {
+            if let Some(flag) = interrupt {
+                sim.set_interrupt(flag.clone());
+            }
+            sim.run_with(|r| on_round(r.round, r.diameter))
+        })
     }
     let start = Instant::now();
     let outcome = match cell.dim() {
@@ -152,6 +153,53 @@ pub fn run_one_stoppable(
     };
     Ok((outcome, start.elapsed().as_secs_f64() * 1e3))
 }
+
+thread_local! {
+    /// The simulation of this thread's last small run (see [`with_simulation`]).
+    static KEPT: std::cell::RefCell<Option<Box<dyn std::any::Any>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f` on a simulation of `config` from `initial`. A small run (at most
+/// [`KEPT_ROBOTS`] robots) starts again in the world and schedule that its thread kept
+/// from its last small run ([`Simulation::restart`], the same run bit for bit), so that
+/// a sweep of small runs costs their activations rather than the making of a world and
+/// a schedule for each; a larger run is made afresh and dropped. What the threads keep
+/// is dropped by [`drop_kept`] when the sweep (or hunt) ends.
+pub(crate) fn with_simulation<P: IndexPoint, R>(
+    config: monoculus_engine::SimConfig,
+    initial: Vec<P>,
+    f: impl FnOnce(&mut Simulation<P>) -> R,
+) -> Result<R, EngineError> {
+    if initial.len() > KEPT_ROBOTS {
+        let mut sim = Simulation::new(config, initial)?;
+        return Ok(f(&mut sim));
+    }
+    let kept = KEPT
+        .with_borrow_mut(Option::take)
+        .and_then(|b| b.downcast::<Simulation<P>>().ok());
+    let mut sim = match kept {
+        Some(mut sim) => {
+            sim.restart(config, initial)?;
+            sim
+        }
+        None => Box::new(Simulation::new(config, initial)?),
+    };
+    let out = f(&mut sim);
+    KEPT.with_borrow_mut(|k| *k = Some(sim));
+    Ok(out)
+}
+
+/// Drops the simulations kept by the threads of the current pool, so that none outlives
+/// the sweep or hunt that made it (its algorithm may be a binding's, whose objects are
+/// dropped while the call lasts).
+pub(crate) fn drop_kept() {
+    rayon::broadcast(|_| KEPT.with_borrow_mut(|k| *k = None));
+    KEPT.with_borrow_mut(|k| *k = None);
+}
+
+/// The most robots of a run whose world a thread keeps for the next.
+pub(crate) const KEPT_ROBOTS: usize = 1024;
 
 /// Runs one (cell, seed), telling `progress` where it is every `progress.interval()`.
 fn run_reported(
@@ -264,6 +312,7 @@ pub fn run_experiment(
             Ok(false) => {}
         }
     });
+    drop_kept();
     if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
         results.finish(exp)?;
         return Err(e);

@@ -229,18 +229,8 @@ impl<P: IndexPoint> Simulation<P> {
     /// A simulation of `initial` (robot i starts at `initial[i]`).
     pub fn new(config: SimConfig, initial: Vec<P>) -> Result<Self, EngineError> {
         build::validate(&config, &initial)?;
-        let params = build::params(&config, initial.len());
         let mut world = World::new();
-        let hull_initial = build::insert_resources(&mut world, params.clone(), &initial);
-        if matches!(config.scheduler, SchedulerSpec::Async(_)) {
-            wiring::insert_async_resources(&mut world, &initial, hull_initial);
-        }
-        let correct = params.correct(&initial);
-        let (d_opt, d_max) = (
-            metrics::d_opt(&correct, config.model.locality),
-            metrics::d_max(&correct),
-        );
-        drop(correct);
+        let (params, measures) = prepare(&mut world, &config, &initial);
         let mut schedule = Schedule::default();
         let hooks = config.algorithm.for_points::<P>().install(Setup {
             world: &mut world,
@@ -253,14 +243,68 @@ impl<P: IndexPoint> Simulation<P> {
             world,
             schedule,
             hooks,
-            d_opt,
-            d_max,
-            hull_initial,
+            d_opt: measures.d_opt,
+            d_max: measures.d_max,
+            hull_initial: measures.hull_initial,
             config,
             last_quiescence_check: None,
             interrupt: None,
             _point: std::marker::PhantomData,
         })
+    }
+
+    /// Makes this simulation a new run, as [`Simulation::new`] would make it (the same
+    /// steps, bit for bit), keeping its world and its schedule where the new run's
+    /// algorithm has the same type and its scheduler the same systems: a small run then
+    /// costs its activations, not the making of a world and a schedule. Otherwise it is
+    /// made afresh.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use monoculus_core::algorithms::ConvergeLocality;
+    /// use monoculus_engine::{AlgorithmBox, SimConfig, Simulation};
+    ///
+    /// let start = |k: f64| vec![DVec2::ZERO, DVec2::new(5.0 + k, 0.0), DVec2::new(0.0, 5.0)];
+    /// let config = |seed| SimConfig::paper(AlgorithmBox::new(ConvergeLocality), seed, 1000);
+    /// let mut sim = Simulation::new(config(0), start(0.0)).unwrap();
+    /// sim.run();
+    /// sim.restart(config(1), start(1.0)).unwrap();
+    /// let again = sim.run();
+    /// let fresh = Simulation::new(config(1), start(1.0)).unwrap().run();
+    /// assert_eq!((again.rounds, again.moves), (fresh.rounds, fresh.moves));
+    /// ```
+    pub fn restart(&mut self, config: SimConfig, initial: Vec<P>) -> Result<(), EngineError> {
+        let same_systems = systems_of(&config) == systems_of(&self.config)
+            && config.algorithm.for_points::<P>().algorithm_type()
+                == self.config.algorithm.for_points::<P>().algorithm_type();
+        if !same_systems {
+            *self = Simulation::new(config, initial)?;
+            return Ok(());
+        }
+        build::validate(&config, &initial)?;
+        let robots: Vec<Entity> = self
+            .world
+            .query_filtered::<Entity, With<Robot>>()
+            .iter(&self.world)
+            .collect();
+        for robot in robots {
+            self.world.despawn(robot);
+        }
+        let (params, measures) = prepare(&mut self.world, &config, &initial);
+        config.algorithm.for_points::<P>().reinstall(Setup {
+            world: &mut self.world,
+            schedule: &mut self.schedule,
+            config: &config,
+            params: &params,
+            initial: &initial,
+        });
+        self.d_opt = measures.d_opt;
+        self.d_max = measures.d_max;
+        self.hull_initial = measures.hull_initial;
+        self.config = config;
+        self.last_quiescence_check = None;
+        self.interrupt = None;
+        Ok(())
     }
 
     /// The run's configuration.
@@ -350,26 +394,62 @@ pub(crate) struct Hooks {
     pub(crate) shown_lights: fn(&World) -> Vec<u8>,
 }
 
+/// The measures of a run's start.
+struct StartMeasures {
+    d_opt: f64,
+    d_max: f64,
+    hull_initial: f64,
+}
+
+/// Inserts (or puts back) every resource of a run of `config` from `initial`: its
+/// parameters, and the start's measures.
+fn prepare<P: IndexPoint>(
+    world: &mut World,
+    config: &SimConfig,
+    initial: &[P],
+) -> (Params, StartMeasures) {
+    let params = build::params(config, initial.len());
+    let hull_initial = build::insert_resources(world, params.clone(), initial);
+    if matches!(config.scheduler, SchedulerSpec::Async(_)) {
+        wiring::insert_async_resources(world, initial, hull_initial);
+    }
+    let correct = params.correct(initial);
+    let measures = StartMeasures {
+        d_opt: metrics::d_opt(&correct, config.model.locality),
+        d_max: metrics::d_max(&correct),
+        hull_initial,
+    };
+    (params, measures)
+}
+
+/// Which systems a scheduler's schedule holds: a run may start again in a schedule
+/// wired for the same.
+#[derive(PartialEq)]
+enum Systems {
+    Rounds { adversary: bool },
+    Async,
+}
+
+fn systems_of(config: &SimConfig) -> Systems {
+    match config.scheduler {
+        SchedulerSpec::Async(_) => Systems::Async,
+        SchedulerSpec::Adversary { .. } => Systems::Rounds { adversary: true },
+        _ => Systems::Rounds { adversary: false },
+    }
+}
+
 /// Installs `algorithm` into a run: its resource, the robots (with their kept frames and
 /// states), the systems of the scheduler compiled for it; returns the loop's hooks.
 pub(crate) fn install<P: IndexPoint, A: Algorithm>(
     algorithm: std::sync::Arc<A>,
     setup: Setup<'_, P>,
 ) -> Hooks {
-    let Setup {
-        world,
-        schedule,
-        config,
-        params,
-        initial,
-    } = setup;
-    let keeps = algorithm.keeps_state();
-    world.insert_resource(Rule(algorithm));
-    let entities = build::spawn_robots::<P, A>(world, config, initial, keeps);
-    if let SchedulerSpec::Async(spec) = &config.scheduler {
-        wiring::wire_async::<P, A>(world, schedule, params, spec, entities);
+    let asynchronous = matches!(setup.config.scheduler, SchedulerSpec::Async(_));
+    let adversary = matches!(setup.config.scheduler, SchedulerSpec::Adversary { .. });
+    let schedule = populate::<P, A>(algorithm, setup);
+    if asynchronous {
+        wiring::wire_async::<P, A>(schedule);
     } else {
-        let adversary = matches!(config.scheduler, SchedulerSpec::Adversary { .. });
         wiring::wire_rounds::<P, A>(schedule, adversary);
     }
     Hooks {
@@ -381,4 +461,26 @@ pub(crate) fn install<P: IndexPoint, A: Algorithm>(
         lights: run::lights::<P, A>,
         shown_lights: view::shown_lights::<P, A>,
     }
+}
+
+/// Inserts `algorithm` and spawns the robots (under ASYNC, with their first phases);
+/// returns the schedule, for the systems.
+pub(crate) fn populate<'a, P: IndexPoint, A: Algorithm>(
+    algorithm: std::sync::Arc<A>,
+    setup: Setup<'a, P>,
+) -> &'a mut Schedule {
+    let Setup {
+        world,
+        schedule,
+        config,
+        params,
+        initial,
+    } = setup;
+    let keeps = algorithm.keeps_state();
+    world.insert_resource(Rule(algorithm));
+    let entities = build::spawn_robots::<P, A>(world, config, initial, keeps);
+    if let SchedulerSpec::Async(spec) = &config.scheduler {
+        wiring::start_async::<P, A>(world, params, spec, entities);
+    }
+    schedule
 }

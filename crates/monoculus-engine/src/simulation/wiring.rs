@@ -20,11 +20,10 @@ pub(super) fn insert_async_resources<P: IndexPoint>(
     world.insert_resource(asynchrony::Lights::default());
 }
 
-/// Wires the ASYNC scheduler over the robots spawned as `entities` (by index): every
-/// robot's first phase, the clock, the tick's systems.
-pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(
+/// Starts the ASYNC scheduler over the robots spawned as `entities` (by index): every
+/// robot's first phase, the clock, the lights.
+pub(super) fn start_async<P: IndexPoint, A: Algorithm>(
     world: &mut World,
-    schedule: &mut Schedule,
     params: &Params,
     spec: &crate::AsyncSpec,
     entities: Vec<Entity>,
@@ -48,6 +47,10 @@ pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(
         set: lights,
     };
     world.resource_mut::<RobotEntities>().0 = entities;
+}
+
+/// Wires the ASYNC tick's systems.
+pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(schedule: &mut Schedule) {
     schedule.configure_sets(
         (
             AsyncSet::Advance,

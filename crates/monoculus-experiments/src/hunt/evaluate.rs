@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::{DVec2, DVec3};
 use monoculus_core::geometry::Point;
 use monoculus_engine::systems::hull_grew;
-use monoculus_engine::{IndexPoint, SchedulerSpec, Simulation};
+use monoculus_engine::{IndexPoint, SchedulerSpec};
 
 use super::*;
 
@@ -48,11 +48,7 @@ impl Hunt {
             return invalid;
         }
         let replay = (config.clone(), points.clone());
-        let Ok(mut sim) = Simulation::new(config, points) else {
-            return invalid;
-        };
         let stop = Arc::new(AtomicBool::new(false));
-        sim.set_interrupt(stop.clone());
         let mut score = match property {
             Property::HullGrows | Property::DiameterGrows | Property::BoxGrows => -1.0,
             _ => 0.0,
@@ -64,41 +60,47 @@ impl Hunt {
         // growth against the larger of the measure before and `above` (so it nears 0
         // from below as a growth nears the threshold).
         let above = self.spec.above.unwrap_or(0.0);
-        let outcome = sim.run_with(|r| {
-            let grew = |before: f64, now: f64, score: &mut f64| {
-                let base = before.max(above);
-                if base > 0.0 && now != before {
-                    *score = f64::max(*score, now / base - 1.0);
-                }
-                hull_grew(before, now) && now > above
-            };
-            let broke = match (property, previous) {
-                (Property::HullGrows, Some((hull, _))) => grew(hull, r.hull, &mut score),
-                (Property::DiameterGrows, Some((_, diameter))) => {
-                    grew(diameter, r.diameter, &mut score)
-                }
-                (Property::BoxGrows, Some(_)) => {
-                    let mut any = false;
-                    for (&before, &now) in extents.iter().zip(r.extents) {
-                        any |= grew(before, now, &mut score);
+        let run = crate::runner::with_simulation::<P, _>(config, points, |sim| {
+            sim.set_interrupt(stop.clone());
+            sim.run_with(|r| {
+                let grew = |before: f64, now: f64, score: &mut f64| {
+                    let base = before.max(above);
+                    if base > 0.0 && now != before {
+                        *score = f64::max(*score, now / base - 1.0);
                     }
-                    any
+                    hull_grew(before, now) && now > above
+                };
+                let broke = match (property, previous) {
+                    (Property::HullGrows, Some((hull, _))) => grew(hull, r.hull, &mut score),
+                    (Property::DiameterGrows, Some((_, diameter))) => {
+                        grew(diameter, r.diameter, &mut score)
+                    }
+                    (Property::BoxGrows, Some(_)) => {
+                        let mut any = false;
+                        for (&before, &now) in extents.iter().zip(r.extents) {
+                            any |= grew(before, now, &mut score);
+                        }
+                        any
+                    }
+                    (Property::Collision, Some(_)) => {
+                        let d = min_distance(r.positions);
+                        score = score.max(1.0 - d / min0);
+                        d <= eps_pos
+                    }
+                    _ => false,
+                };
+                if broke && violated_at.is_none() {
+                    violated_at = Some(r.round);
+                    stop.store(true, Ordering::Relaxed);
                 }
-                (Property::Collision, Some(_)) => {
-                    let d = min_distance(r.positions);
-                    score = score.max(1.0 - d / min0);
-                    d <= eps_pos
-                }
-                _ => false,
-            };
-            if broke && violated_at.is_none() {
-                violated_at = Some(r.round);
-                stop.store(true, Ordering::Relaxed);
-            }
-            previous = Some((r.hull, r.diameter));
-            extents.clear();
-            extents.extend_from_slice(r.extents);
+                previous = Some((r.hull, r.diameter));
+                extents.clear();
+                extents.extend_from_slice(r.extents);
+            })
         });
+        let Ok(outcome) = run else {
+            return invalid;
+        };
         if let Some(f) = &outcome.failure {
             return Evaluation {
                 failure: Some(f.to_string()),
@@ -149,8 +151,8 @@ impl Hunt {
         if let Some(at) = violated_at {
             let (mut config, points) = replay;
             config.stop.max_rounds = at.max(1);
-            if let Ok(mut sim) = Simulation::new(config, points) {
-                let cut = sim.run();
+            if let Ok(cut) = crate::runner::with_simulation::<P, _>(config, points, |sim| sim.run())
+            {
                 verdict = (cut.converged, cut.stuck(), cut.stopped_by);
             }
         }

@@ -229,7 +229,9 @@ impl Hunt {
                 state.shrunk = !state.stopped();
             }
         }
-        state.report()
+        let report = state.report();
+        crate::runner::drop_kept();
+        report
     }
 }
 

@@ -317,23 +317,71 @@ impl RunMetrics {
     }
 }
 
-/// The fields of a serialised record, in column order.
+/// The fields of a serialised record, in column order: as the CSV writer writes them,
+/// split again by a CSV reader. Both are made once per thread (a reader builds its
+/// automaton, a writer its buffer: most of the cost of a small run's row otherwise).
 pub(crate) fn fields_of<T: serde::Serialize>(value: &T) -> Vec<String> {
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(false)
-        .from_writer(vec![]);
-    w.serialize(value).expect("a row serialises");
-    let bytes = w.into_inner().expect("memory");
-    let mut r = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_reader(bytes.as_slice());
-    r.records()
-        .next()
-        .expect("one record")
-        .expect("its own output")
-        .iter()
-        .map(String::from)
-        .collect()
+    use std::cell::RefCell;
+    use std::rc::Rc;
+    /// The writer's output, which the thread takes back after each record.
+    struct Sink(Rc<RefCell<Vec<u8>>>);
+    impl std::io::Write for Sink {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.borrow_mut().extend_from_slice(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    struct Codec {
+        written: Rc<RefCell<Vec<u8>>>,
+        writer: csv::Writer<Sink>,
+        reader: csv_core::Reader,
+    }
+    thread_local! {
+        static CODEC: RefCell<Codec> = RefCell::new({
+            let written = Rc::new(RefCell::new(Vec::new()));
+            Codec {
+                // Flexible: records of every type pass through it, of any length.
+                writer: csv::WriterBuilder::new()
+                    .has_headers(false)
+                    .flexible(true)
+                    .from_writer(Sink(written.clone())),
+                written,
+                reader: csv_core::Reader::new(),
+            }
+        });
+    }
+    CODEC.with_borrow_mut(
+        |Codec {
+             written,
+             writer,
+             reader,
+         }| {
+            writer.serialize(value).expect("a row serialises");
+            writer.flush().expect("memory");
+            let bytes = std::mem::take(&mut *written.borrow_mut());
+            reader.reset();
+            // Unquoting only shortens: the fields fit in as many bytes as the record.
+            let mut out = vec![0u8; bytes.len()];
+            let mut ends = vec![0usize; bytes.len() + 1];
+            let (result, _, _, n) = reader.read_record(&bytes, &mut out, &mut ends);
+            assert!(
+                matches!(result, csv_core::ReadRecordResult::Record),
+                "one whole record: {result:?}"
+            );
+            let mut start = 0;
+            ends[..n]
+                .iter()
+                .map(|&end| {
+                    let field = String::from_utf8_lossy(&out[start..end]).into_owned();
+                    start = end;
+                    field
+                })
+                .collect()
+        },
+    )
 }
 
 /// The columns of a typed part of a row (from a first column on), found once per file
@@ -419,6 +467,54 @@ pub fn run_row(
 
 #[cfg(test)]
 mod tests {
+    /// The fields, split by a CSV reader made for the one record: what `fields_of`
+    /// returned before it kept its reader.
+    fn fields_by_a_fresh_reader<T: serde::Serialize>(value: &T) -> Vec<String> {
+        let mut w = csv::WriterBuilder::new()
+            .has_headers(false)
+            .from_writer(vec![]);
+        w.serialize(value).unwrap();
+        let bytes = w.into_inner().unwrap();
+        let mut r = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(bytes.as_slice());
+        r.records()
+            .next()
+            .unwrap()
+            .unwrap()
+            .iter()
+            .map(String::from)
+            .collect()
+    }
+
+    #[test]
+    fn fields_are_split_as_a_fresh_reader_splits_them() {
+        #[derive(serde::Serialize)]
+        struct Row<'a> {
+            name: &'a str,
+            x: f64,
+            n: u64,
+            flag: Option<bool>,
+            empty: &'a str,
+        }
+        for name in ["plain", "a,b", "quote \"q\"", "line\nbreak", "", "é,\"\r\n"] {
+            for x in [0.0, -1.5, 1e300, f64::NAN, 1.0 / 3.0] {
+                let row = Row {
+                    name,
+                    x,
+                    n: 42,
+                    flag: (x > 0.0).then_some(true),
+                    empty: "",
+                };
+                // Twice: the kept writer and reader start afresh each time.
+                assert_eq!(fields_of(&row), fields_by_a_fresh_reader(&row));
+                assert_eq!(fields_of(&row), fields_by_a_fresh_reader(&row));
+                // A record of another length between two.
+                assert_eq!(fields_of(&(1, "a")), ["1", "a"]);
+            }
+        }
+    }
+
     use super::*;
 
     #[test]
