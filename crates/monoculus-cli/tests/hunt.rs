@@ -59,6 +59,16 @@ fn median_and_angle_bisector_grow_the_hull_shrunk_to_at_most_six_robots_and_run_
         assert_eq!(row["hull_grew"], "true", "{name}: {row:?}");
         assert_eq!(row["n"], n.to_string());
         assert_eq!(row["rounds"], summary_field(&out, "round"));
+        // The summary's verdict is the replayed run's (the search stopped its run at
+        // the violation; the replay is cut there too).
+        for column in ["converged", "stuck"] {
+            assert_eq!(row[column], summary_field(&out, column), "{name}: {column}");
+        }
+        assert_eq!(
+            format!("\"{}\"", row["stopped_by"]),
+            summary_field(&out, "stopped_by"),
+            "{name}"
+        );
     }
 }
 

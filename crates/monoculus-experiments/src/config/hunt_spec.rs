@@ -29,6 +29,19 @@ pub enum Property {
 }
 
 impl Property {
+    /// Whether a run is stopped at this property's violation, in the search and in
+    /// reproduce.toml (`stop.max_rounds` the violation's round): the growths and
+    /// collisions, judged round by round.
+    pub fn cut_at_violation(self) -> bool {
+        matches!(
+            self,
+            Property::HullGrows
+                | Property::DiameterGrows
+                | Property::BoxGrows
+                | Property::Collision
+        )
+    }
+
     /// The config name.
     pub fn name(self) -> &'static str {
         match self {

@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::{DVec2, DVec3};
 use monoculus_core::geometry::Point;
 use monoculus_engine::systems::hull_grew;
-use monoculus_engine::{IndexPoint, SchedulerSpec};
+use monoculus_engine::{IndexPoint, SchedulerSpec, SimConfig};
 
 use super::*;
 
@@ -19,7 +19,9 @@ impl Hunt {
         }
     }
 
-    fn evaluate_in<P: IndexPoint>(&self, c: &Candidate) -> Evaluation {
+    /// The run of `c`: its config (the cell's, with `c`'s seed, schedule and given
+    /// durations) and its start.
+    fn run_of<P: IndexPoint>(&self, c: &Candidate) -> (SimConfig, Vec<P>) {
         let mut config = self.cell.sim_config(c.seed);
         if let Some(rounds) = &c.schedule {
             config.scheduler = SchedulerSpec::File(Arc::new(activation_list(rounds)));
@@ -27,8 +29,44 @@ impl Hunt {
         if let SchedulerSpec::Async(spec) = &mut config.scheduler {
             spec.durations = durations_of(&c.durations);
         }
+        (config, c.points.iter().map(|r| P::from_slice(r)).collect())
+    }
+
+    /// `found` with the verdict (converged, stuck, stopped by) of its run as
+    /// reproduce.toml replays it: a run stopped at its violation is cut there, with
+    /// `stop.max_rounds` the violation's round, and the stop criterion may hold in that
+    /// very round. The search stops such runs early and reads "interrupted"; this is
+    /// asked only of what is reported.
+    pub(super) fn as_reproduced(&self, mut found: Found) -> Found {
+        if !(found.evaluation.violated && self.property().cut_at_violation()) {
+            return found;
+        }
+        let cut = if self.cell.dim() == 3 {
+            self.cut_run::<DVec3>(&found.candidate, found.evaluation.round)
+        } else {
+            self.cut_run::<DVec2>(&found.candidate, found.evaluation.round)
+        };
+        if let Ok(cut) = cut {
+            let e = &mut found.evaluation;
+            (e.converged, e.stuck, e.stopped_by) =
+                (cut.converged, cut.stuck(), Some(cut.stopped_by));
+        }
+        found
+    }
+
+    fn cut_run<P: IndexPoint>(
+        &self,
+        c: &Candidate,
+        round: u64,
+    ) -> Result<monoculus_engine::RunOutcome, monoculus_engine::EngineError> {
+        let (mut config, points) = self.run_of::<P>(c);
+        config.stop.max_rounds = round.max(1);
+        crate::runner::with_simulation::<P, _>(config, points, |sim| sim.run())
+    }
+
+    fn evaluate_in<P: IndexPoint>(&self, c: &Candidate) -> Evaluation {
+        let (config, points) = self.run_of::<P>(c);
         let eps_pos = config.vision.eps_pos;
-        let points: Vec<P> = c.points.iter().map(|r| P::from_slice(r)).collect();
         let invalid = Evaluation {
             score: f64::NEG_INFINITY,
             violated: false,
@@ -47,7 +85,6 @@ impl Hunt {
             // Robots that start together did not collide.
             return invalid;
         }
-        let replay = (config.clone(), points.clone());
         let stop = Arc::new(AtomicBool::new(false));
         let mut score = match property {
             Property::HullGrows | Property::DiameterGrows | Property::BoxGrows => -1.0,
@@ -144,27 +181,15 @@ impl Hunt {
         if violated && property != Property::NoConvergence {
             score = score.max(0.0);
         }
-        // A run stopped at its violation is reported as reproduce.toml replays it, with
-        // `stop.max_rounds` cut to the violation's round: its verdict is that run's (the
-        // stop criterion may hold in that very round), not "interrupted".
-        let mut verdict = (outcome.converged, outcome.stuck(), outcome.stopped_by);
-        if let Some(at) = violated_at {
-            let (mut config, points) = replay;
-            config.stop.max_rounds = at.max(1);
-            if let Ok(cut) = crate::runner::with_simulation::<P, _>(config, points, |sim| sim.run())
-            {
-                verdict = (cut.converged, cut.stuck(), cut.stopped_by);
-            }
-        }
         Evaluation {
             score,
             violated,
             round,
             rounds: outcome.rounds,
             epochs,
-            converged: verdict.0,
-            stuck: verdict.1,
-            stopped_by: Some(verdict.2),
+            converged: outcome.converged,
+            stuck: outcome.stuck(),
+            stopped_by: Some(outcome.stopped_by),
             activations: outcome.activations,
             failure: None,
         }

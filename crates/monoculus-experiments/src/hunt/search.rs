@@ -171,7 +171,7 @@ impl<'a> State<'a> {
             // `slow` is never broken: its best is the slowest run found.
             found: self.best.as_ref().is_some_and(|b| b.evaluation.violated),
             shrunk: false,
-            best: self.best.clone(),
+            best: self.best.clone().map(|b| self.hunt.as_reproduced(b)),
             evaluations: self.evaluations,
             shrink_evaluations: self.shrink_evaluations,
             generations: self.generations,

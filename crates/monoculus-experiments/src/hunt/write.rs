@@ -177,15 +177,7 @@ fn reproduce_toml(hunt: &Hunt, best: &Found) -> String {
     }
     spec.scheduler.durations = (!c.durations.is_empty()).then(|| "durations.csv".into());
     let e = &best.evaluation;
-    if e.violated
-        && matches!(
-            hunt.property(),
-            Property::HullGrows
-                | Property::DiameterGrows
-                | Property::BoxGrows
-                | Property::Collision
-        )
-    {
+    if e.violated && hunt.property().cut_at_violation() {
         spec.stop.max_rounds = e.round.max(1);
     }
     format!(

@@ -318,70 +318,40 @@ impl RunMetrics {
 }
 
 /// The fields of a serialised record, in column order: as the CSV writer writes them,
-/// split again by a CSV reader. Both are made once per thread (a reader builds its
-/// automaton, a writer its buffer: most of the cost of a small run's row otherwise).
+/// split again by a CSV reader. The reader is made once per thread (it builds an
+/// automaton: most of the cost of a small run's row otherwise), the writer with a small
+/// buffer (a row spills into its `Vec` as it needs).
 pub(crate) fn fields_of<T: serde::Serialize>(value: &T) -> Vec<String> {
-    use std::cell::RefCell;
-    use std::rc::Rc;
-    /// The writer's output, which the thread takes back after each record.
-    struct Sink(Rc<RefCell<Vec<u8>>>);
-    impl std::io::Write for Sink {
-        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-            self.0.borrow_mut().extend_from_slice(buf);
-            Ok(buf.len())
-        }
-        fn flush(&mut self) -> std::io::Result<()> {
-            Ok(())
-        }
-    }
-    struct Codec {
-        written: Rc<RefCell<Vec<u8>>>,
-        writer: csv::Writer<Sink>,
-        reader: csv_core::Reader,
-    }
     thread_local! {
-        static CODEC: RefCell<Codec> = RefCell::new({
-            let written = Rc::new(RefCell::new(Vec::new()));
-            Codec {
-                // Flexible: records of every type pass through it, of any length.
-                writer: csv::WriterBuilder::new()
-                    .has_headers(false)
-                    .flexible(true)
-                    .from_writer(Sink(written.clone())),
-                written,
-                reader: csv_core::Reader::new(),
-            }
-        });
+        static READER: std::cell::RefCell<csv_core::Reader> =
+            std::cell::RefCell::new(csv_core::Reader::new());
     }
-    CODEC.with_borrow_mut(
-        |Codec {
-             written,
-             writer,
-             reader,
-         }| {
-            writer.serialize(value).expect("a row serialises");
-            writer.flush().expect("memory");
-            let bytes = std::mem::take(&mut *written.borrow_mut());
-            reader.reset();
-            // Unquoting only shortens: the fields fit in as many bytes as the record.
-            let mut out = vec![0u8; bytes.len()];
-            let mut ends = vec![0usize; bytes.len() + 1];
-            let (result, _, _, n) = reader.read_record(&bytes, &mut out, &mut ends);
-            assert!(
-                matches!(result, csv_core::ReadRecordResult::Record),
-                "one whole record: {result:?}"
-            );
-            let mut start = 0;
-            ends[..n]
-                .iter()
-                .map(|&end| {
-                    let field = String::from_utf8_lossy(&out[start..end]).into_owned();
-                    start = end;
-                    field
-                })
-                .collect()
-        },
-    )
+    let mut writer = csv::WriterBuilder::new()
+        .has_headers(false)
+        .buffer_capacity(256)
+        .from_writer(Vec::new());
+    writer.serialize(value).expect("a row serialises");
+    let bytes = writer.into_inner().expect("memory");
+    READER.with_borrow_mut(|reader| {
+        reader.reset();
+        // Unquoting only shortens: the fields fit in as many bytes as the record.
+        let mut out = vec![0u8; bytes.len()];
+        let mut ends = vec![0usize; bytes.len() + 1];
+        let (result, _, _, n) = reader.read_record(&bytes, &mut out, &mut ends);
+        assert!(
+            matches!(result, csv_core::ReadRecordResult::Record),
+            "one whole record: {result:?}"
+        );
+        let mut start = 0;
+        ends[..n]
+            .iter()
+            .map(|&end| {
+                let field = String::from_utf8_lossy(&out[start..end]).into_owned();
+                start = end;
+                field
+            })
+            .collect()
+    })
 }
 
 /// The columns of a typed part of a row (from a first column on), found once per file
