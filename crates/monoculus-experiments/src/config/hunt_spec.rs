@@ -32,6 +32,12 @@ impl Property {
     /// Whether a run is stopped at this property's violation, in the search and in
     /// reproduce.toml (`stop.max_rounds` the violation's round): the growths and
     /// collisions, judged round by round.
+    ///
+    /// ```
+    /// use monoculus_experiments::config::Property;
+    /// assert!(Property::HullGrows.cut_at_violation());
+    /// assert!(!Property::Slow.cut_at_violation());
+    /// ```
     pub fn cut_at_violation(self) -> bool {
         matches!(
             self,
