@@ -2,7 +2,7 @@
 # Measures every scale target of docs/performance.md once and prints the
 # table (markdown) on stdout: `scripts/performance.sh [REPEATS]` (default 3: rounds are
 # the best of REPEATS stress runs, ratios the median over REPEATS alternated pairs of
-# runs; whole runs are timed once). About 3 minutes on 2 cores, with numpy's 12 s
+# runs; whole runs are timed once). About 4 minutes on 2 cores, with numpy's 12 s
 # if numpy is installed (`pip install numpy`).
 # Details of every run go to results/performance/ (stress logs, results folders).
 set -euo pipefail
@@ -107,19 +107,43 @@ t0=$(date +%s.%N)
 "$bin" hunt configs/hunt/converge_locality.toml --out "$out/hunt" --quiet \
     --set hunt.evaluations=40000 > /dev/null
 hunt_rate=$(python3 -c "print(f'{40000 / ($(date +%s.%N) - $t0):.0f}')")
+# ASYNC at four time resolutions: the same run (configs/bench/async_1e4_resolution.toml)
+# with its durations times k, its cost per activation (us) from runs.csv; the four are
+# run in turn, REPEATS times, and each figure is the median.
+resolution() {
+    local k="$1" r="$2"
+    "$bin" run configs/bench/async_1e4_resolution.toml --out "$out/resolution_$k.$r" --force \
+        --set "scheduler.idle.min=$k" --set "scheduler.idle.max=$((10 * k))" \
+        --set "scheduler.compute.min=$k" --set "scheduler.compute.max=$((5 * k))" \
+        --set "scheduler.move.mean=$((4 * k)).0" > /dev/null
+}
+for r in $(seq "$repeats"); do
+    for k in 1 10 100 1000; do resolution "$k" "$r"; done
+done
+read -r res1 res10 res100 res1000 < <(python3 - "$out" "$repeats" <<'PY'
+import csv, statistics, sys
+out, repeats = sys.argv[1], int(sys.argv[2])
+def per_activation(k, r):
+    row = next(csv.DictReader(open(f"{out}/resolution_{k}.{r}/runs.csv")))
+    return 1000 * float(row["wall_ms"]) / int(row["activations"])
+print(*(f"{statistics.median(per_activation(k, r) for r in range(1, repeats + 1)):.3f}" for k in (1, 10, 100, 1000)))
+PY
+)
 if python3 -c "import numpy" 2> /dev/null; then
     numpy=$(python3 scripts/numpy_baseline.py | sed -n 's/.*wall_s=\([0-9.]*\).*/\1/p')
 else
     numpy=""
 fi
 
-python3 - "$cl5" "$two_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$fsync_act" "$coarse_act" "$fine_act" "$async5" "$fsync5" "$coarse_long" "$fine_ratio" "$vs4" "$vs5" "$async_two_one" "$numpy" "$small" "$hunt_rate" <<'PY'
+python3 - "$cl5" "$two_one" "$lattice" "$cl6" "$cl6_mb" "$cq6" "$cq6_mb" "$cl_run" "$cq_run" "$paper" "$ours" "$fsync_act" "$coarse_act" "$fine_act" "$async5" "$fsync5" "$coarse_long" "$fine_ratio" "$vs4" "$vs5" "$async_two_one" "$numpy" "$small" "$hunt_rate" "$res1" "$res10" "$res100" "$res1000" <<'PY'
 import sys
 cl5, two_one, lattice, cl6, cl6_mb, cq6, cq6_mb, cl_run, cq_run, paper, ours = map(float, sys.argv[1:12])
 fsync_act, coarse_act, fine_act, async5, fsync5, coarse_long = map(float, sys.argv[12:18])
 fine_ratio, vs4, vs5, async_two_one = map(float, sys.argv[18:22])
 numpy = float(sys.argv[22]) if sys.argv[22] else None
 small, hunt_rate = float(sys.argv[23]), float(sys.argv[24])
+res1, res10, res100, res1000 = map(float, sys.argv[25:29])
+fine = (res10, res100, res1000)
 # Rounds are means over the rounds of the best stress run (the first round of
 # ConvergeQuadrant builds what later rounds reuse, and counts in its mean); ratios
 # the median over alternated pairs, with each side's median figure.
@@ -137,6 +161,8 @@ rows = [
     ("ASYNC coarse against FSYNC, n = 10^4, per activation (us: %.2f against %.2f)" % (coarse_long, fsync_act), vs4, vs4 <= 2, "<= 2x"),
     ("ASYNC coarse against FSYNC, n = 10^5, per activation (us: %.2f against %.2f)" % (async5, fsync5), vs5, vs5 <= 2, "<= 2x"),
     ("ASYNC 2 threads against 1, n = 10^5", async_two_one, async_two_one >= 1.6, ">= 1.6x"),
+    ("ASYNC at k = 10, 100, 1000, n = 10^4: the largest over the smallest per activation (us: %.2f, %.2f, %.2f)" % fine, max(fine) / min(fine), max(fine) / min(fine) <= 1.25, "<= 1.25x"),
+    ("ASYNC at k = 100 against k = 1, n = 10^4, per activation (us: %.2f against %.2f)" % (res100, res1), res100 / res1, res100 / res1 <= 2, "<= 2x"),
     ("small runs: n = 10 to convergence, one thread, whole process (us a run)", small, small <= 25, "<= 25"),
     ("hunt of configs/hunt/converge_locality.toml, 2 threads (evaluations/s)", hunt_rate, hunt_rate >= 3 * 18000, ">= 54000 (3x the 18,000 before kept worlds)"),
 ]
