@@ -422,8 +422,8 @@ fn prepare<P: IndexPoint>(
     (params, measures)
 }
 
-/// Which systems a scheduler's schedule holds: a run may start again in a schedule
-/// wired for the same.
+/// Which systems a scheduler's schedule holds: what [`install`] wires, and what a run
+/// started again must share with the last ([`Simulation::restart`]).
 #[derive(PartialEq)]
 enum Systems {
     Rounds { adversary: bool },
@@ -444,13 +444,11 @@ pub(crate) fn install<P: IndexPoint, A: Algorithm>(
     algorithm: std::sync::Arc<A>,
     setup: Setup<'_, P>,
 ) -> Hooks {
-    let asynchronous = matches!(setup.config.scheduler, SchedulerSpec::Async(_));
-    let adversary = matches!(setup.config.scheduler, SchedulerSpec::Adversary { .. });
+    let systems = systems_of(setup.config);
     let schedule = populate::<P, A>(algorithm, setup);
-    if asynchronous {
-        wiring::wire_async::<P, A>(schedule);
-    } else {
-        wiring::wire_rounds::<P, A>(schedule, adversary);
+    match systems {
+        Systems::Async => wiring::wire_async::<P, A>(schedule),
+        Systems::Rounds { adversary } => wiring::wire_rounds::<P, A>(schedule, adversary),
     }
     Hooks {
         quiescent: run::quiescent::<P, A>,
