@@ -1,9 +1,8 @@
 //! The ASYNC scheduler's per-robot state and shared resources.
 
-use std::collections::BTreeMap;
-
 use bevy_ecs::prelude::*;
 
+use super::agenda::Agenda;
 use crate::IndexPoint;
 
 /// Where a robot is in its cycle. The Look is instantaneous: it happens at the tick
@@ -120,22 +119,8 @@ pub struct AsyncClock {
     epoch_start: u64,
     done: Vec<bool>,
     remaining: usize,
-    /// The robots of the pending phase ends at ticks `tick..tick + NEAR`, those of
-    /// tick `t` in slot `t % NEAR` (made when first needed): scheduling one costs a
-    /// push. Coarse durations (a few ticks) fall here; a robot scheduled three times a
-    /// cycle, a map's search each time was 2% of a coarse run, on one thread.
-    near: Vec<Vec<u32>>,
-    /// Robots listed in `near`.
-    in_near: usize,
-    /// The robots of the pending phase ends further ahead, by tick (a calendar:
-    /// taking a tick costs one map operation per tick, not a heap operation per
-    /// robot). A tick's robots may be in both: those scheduled before it came near.
-    agenda: BTreeMap<u64, Vec<u32>>,
-    /// Emptied lists of `agenda` and `near`, reused.
-    spare: Vec<Vec<u32>>,
-    /// A bit per robot, all clear between ticks: where a tick's robots are put in
-    /// order (see [`ascending`]).
-    marks: Vec<u64>,
+    /// The phase ends to come, by tick.
+    agenda: Agenda,
     /// Robots whose phase ends at the current tick, ascending.
     pub due: Vec<u32>,
     /// The robots of `due` by the phase that ends (indexed by the phase), each list
@@ -159,53 +144,6 @@ pub struct AsyncClock {
     pub move_decided: bool,
 }
 
-/// `robots` (distinct robots of a swarm of `n`) put in ascending order. A crowded
-/// tick's list holds a good part of the swarm (at coarse durations a tenth): marked in
-/// `marks`, a bit per robot, and read back in order, about ten times cheaper than a
-/// sort; a short list is sorted. `marks` is left clear.
-fn ascending(robots: &mut [u32], marks: &mut Vec<u64>, n: usize) {
-    let words = n.div_ceil(64);
-    // Reading the marks costs a word per 64 robots of the swarm, sorting about
-    // log2(len) comparisons a robot.
-    if robots.len() < 64 || robots.len() * 8 < words || words == 0 {
-        robots.sort_unstable();
-        return;
-    }
-    if marks.len() < words {
-        marks.resize(words, 0);
-    }
-    let mut distinct = true;
-    for &r in robots.iter() {
-        let (w, bit) = (r as usize / 64, 1u64 << (r % 64));
-        distinct &= marks[w] & bit == 0;
-        marks[w] |= bit;
-    }
-    if !distinct {
-        // A robot listed twice (the agenda never does so): sorted, the marks cleared.
-        for &r in robots.iter() {
-            marks[r as usize / 64] = 0;
-        }
-        robots.sort_unstable();
-        return;
-    }
-    let mut at = 0;
-    for (w, word) in marks[..words].iter_mut().enumerate() {
-        let mut bits = std::mem::take(word);
-        while bits != 0 {
-            robots[at] = (w * 64) as u32 + bits.trailing_zeros();
-            at += 1;
-            bits &= bits - 1;
-        }
-    }
-    debug_assert_eq!(at, robots.len());
-}
-
-/// Ticks ahead of the current one whose phase ends [`AsyncClock`] lists by slot.
-const NEAR: u64 = 64;
-
-/// The longest list of robots [`AsyncClock`] keeps for reuse.
-const SPARE_CAPACITY: usize = 1024;
-
 impl AsyncClock {
     /// A clock for `n` robots.
     pub fn new(n: usize) -> Self {
@@ -218,31 +156,7 @@ impl AsyncClock {
 
     /// Schedules robot `robot`'s next phase end, at `tick` (the current tick or later).
     pub fn schedule(&mut self, tick: u64, robot: u32) {
-        debug_assert!(
-            tick >= self.tick,
-            "a phase ends at the current tick or later"
-        );
-        if tick < self.tick + NEAR {
-            if self.near.is_empty() {
-                self.near.resize_with(NEAR as usize, Vec::new);
-            }
-            self.near[(tick % NEAR) as usize].push(robot);
-            self.in_near += 1;
-            return;
-        }
-        let spare = &mut self.spare;
-        self.agenda
-            .entry(tick)
-            .or_insert_with(|| spare.pop().unwrap_or_default())
-            .push(robot);
-    }
-
-    /// The first tick at or after the current one with robots in `near`.
-    fn next_near(&self) -> Option<u64> {
-        if self.in_near == 0 {
-            return None;
-        }
-        (self.tick..self.tick + NEAR).find(|&t| !self.near[(t % NEAR) as usize].is_empty())
+        self.agenda.schedule(self.tick, tick, robot);
     }
 
     /// Moves to the next tick with phase ends; `false` if nothing is scheduled.
@@ -253,43 +167,15 @@ impl AsyncClock {
         self.move_ended = false;
         self.move_decided = false;
         self.epoch_ended = false;
-        let near = self.next_near();
-        let far = self.agenda.first_key_value().map(|(&t, _)| t);
-        let Some(tick) = near.into_iter().chain(far).min() else {
-            return false;
-        };
-        // The tick's robots in the ring's slot, in the map, or both (those scheduled
-        // before it came near).
-        let near = (near == Some(tick)).then(|| {
-            let fresh = self.spare.pop().unwrap_or_default();
-            let due = std::mem::replace(&mut self.near[(tick % NEAR) as usize], fresh);
-            self.in_near -= due.len();
-            due
-        });
-        let far = (far == Some(tick)).then(|| self.agenda.pop_first().expect("the first tick").1);
-        let mut due = match (near, far) {
-            (Some(mut due), Some(far)) => {
-                due.extend_from_slice(&far);
-                self.recycle(far);
-                due
+        match self
+            .agenda
+            .take_next(self.tick, self.done.len(), &mut self.due)
+        {
+            Some(tick) => {
+                self.tick = tick;
+                true
             }
-            (Some(due), None) | (None, Some(due)) => due,
-            (None, None) => unreachable!("the tick is the first of near and far"),
-        };
-        self.tick = tick;
-        ascending(&mut due, &mut self.marks, self.done.len());
-        std::mem::swap(&mut self.due, &mut due);
-        self.recycle(due);
-        true
-    }
-
-    /// Keeps an emptied list for reuse, but not the long ones of a crowded tick (a
-    /// random start puts a tenth of the swarm on each of the first ticks): kept, they
-    /// would hold several times the swarm's worth of room.
-    fn recycle(&mut self, mut list: Vec<u32>) {
-        if list.capacity() <= SPARE_CAPACITY {
-            list.clear();
-            self.spare.push(list);
+            None => false,
         }
     }
 
@@ -415,120 +301,6 @@ mod tests {
         assert_ne!(t, Timing::new(Phase::Compute, 3, 7, 2, 3, None));
         assert_eq!(std::mem::size_of::<Timing<DVec2>>(), 56);
         assert_eq!(std::mem::size_of::<Timing<DVec3>>(), 64);
-    }
-
-    /// The calendar gives ticks in order, each with its robots ascending (also robots
-    /// scheduled out of order, twice at one tick, or at the tick being processed), and
-    /// reports when nothing is left.
-    #[test]
-    fn the_agenda_gives_ticks_in_order_with_robots_ascending() {
-        let mut clock = AsyncClock::new(8);
-        for (tick, robot) in [(5, 3), (2, 7), (5, 1), (9, 0), (2, 2), (5, 6)] {
-            clock.schedule(tick, robot);
-        }
-        assert!(clock.advance());
-        assert_eq!((clock.tick, clock.due.clone()), (2, vec![2, 7]));
-        // Scheduled during tick 2 for tick 2 itself: the next tick taken is 2 again.
-        clock.schedule(2, 4);
-        clock.schedule(9, 5);
-        assert!(clock.advance());
-        assert_eq!((clock.tick, clock.due.clone()), (2, vec![4]));
-        assert!(clock.advance());
-        assert_eq!((clock.tick, clock.due.clone()), (5, vec![1, 3, 6]));
-        assert!(clock.advance());
-        assert_eq!((clock.tick, clock.due.clone()), (9, vec![0, 5]));
-        assert!(!clock.advance());
-        assert!(clock.due.is_empty());
-    }
-
-    /// The agenda, near ticks by slot and far ones in a map, against a plain map of
-    /// sorted lists: the same ticks with the same robots, over random schedules of
-    /// the current tick, near ones, the slots' edge (63, 64 and 65 ahead) and far ones,
-    /// many robots a tick and few, some robots listed twice.
-    #[test]
-    fn the_agenda_near_and_far_is_a_map_of_ticks() {
-        use monoculus_core::rng::Stream;
-        use std::collections::BTreeMap;
-        let n = 3000u32;
-        let mut stream = Stream::new(11, 0, 0, 0);
-        let mut clock = AsyncClock::new(n as usize);
-        let mut reference: BTreeMap<u64, Vec<u32>> = BTreeMap::new();
-        let mut now = 0u64;
-        let mut ticks = 0;
-        for step in 0..4000 {
-            let burst = if step % 97 == 0 {
-                1500
-            } else {
-                1 + stream.below(20)
-            };
-            for _ in 0..burst {
-                let ahead = match stream.below(8) {
-                    0 => 0,
-                    1 => 63 + stream.below(3) as u64,
-                    2 => 64 + stream.below(2000) as u64,
-                    _ => 1 + stream.below(12) as u64,
-                };
-                let robot = stream.below(n as usize) as u32;
-                clock.schedule(now + ahead, robot);
-                reference.entry(now + ahead).or_default().push(robot);
-            }
-            for _ in 0..1 + stream.below(3) {
-                let expected = reference.pop_first().map(|(t, mut robots)| {
-                    robots.sort_unstable();
-                    (t, robots)
-                });
-                let got = clock.advance().then(|| (clock.tick, clock.due.clone()));
-                assert_eq!(got, expected, "step {step}");
-                if let Some((t, _)) = expected {
-                    now = t;
-                    ticks += 1;
-                }
-            }
-        }
-        while let Some((t, mut robots)) = reference.pop_first() {
-            robots.sort_unstable();
-            assert!(clock.advance());
-            assert_eq!((clock.tick, clock.due.clone()), (t, robots));
-        }
-        assert!(!clock.advance(), "nothing left");
-        assert!(ticks > 3000, "{ticks} ticks");
-    }
-
-    /// A tick's robots are put in order by their marks or by a sort, whichever is
-    /// cheaper: the order of a sort either way, for lists short and long, sparse and
-    /// dense in the swarm, with robots listed twice, and the marks left clear.
-    #[test]
-    fn a_ticks_robots_are_put_in_ascending_order_whatever_the_way() {
-        use monoculus_core::rng::Stream;
-        let mut marks = Vec::new();
-        for (n, len, twice) in [
-            (10, 5, false),
-            (1000, 63, false),
-            (1000, 64, false),
-            (1000, 900, false),
-            (100_000, 100, false),
-            (100_000, 1500, false),
-            (100_000, 60_000, false),
-            (1000, 700, true),
-            (1000, 50, true),
-        ] {
-            let mut stream = Stream::new(7, 1, n as u64, len as u64);
-            let mut pool: Vec<u32> = (0..n as u32).collect();
-            for i in 0..len {
-                let j = i + stream.below(n - i);
-                pool.swap(i, j);
-            }
-            let mut robots = pool[..len].to_vec();
-            if twice {
-                robots.push(robots[len / 2]);
-            }
-            let mut expected = robots.clone();
-            expected.sort_unstable();
-            super::ascending(&mut robots, &mut marks, n);
-            assert_eq!(robots, expected, "n {n}, {len} robots, one twice: {twice}");
-            assert!(marks.iter().all(|&w| w == 0), "marks left clear");
-        }
-        assert!(!marks.is_empty(), "the marks were used");
     }
 
     #[test]

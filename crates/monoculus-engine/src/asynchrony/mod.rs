@@ -4,6 +4,7 @@
 //! positions. Time is counted in epochs: the shortest spans in which every robot
 //! completes at least one full cycle.
 
+mod agenda;
 mod boxes;
 mod committed;
 mod components;
