@@ -237,17 +237,12 @@ pub(crate) fn positions_now<P: IndexPoint>(
     pts
 }
 
-/// The lookers' decisions, shared between threads from [`PARALLEL_LOOKS`] Looks on (the
-/// Looks of a tick differ in cost, so that they are split as finely as rayon will:
-/// measured in docs/performance.md); a robot crashed by `epoch` (SPEC 9.1: at its first
+/// The lookers' decisions, shared between threads from two Looks on (the Looks of a
+/// tick differ in cost, so that they are split as finely as rayon will; from four or
+/// eight on, runs at 1000 times the coarse durations gained what runs at 100 times lost:
+/// docs/performance-history.md); a robot crashed by `epoch` (SPEC 9.1: at its first
 /// Look at or after its crash epoch) stays, its memory as it was.
 type Decided<P, A> = (Option<P>, Option<KeptBy<P, A>>);
-
-/// Looks in a tick from which they are shared between threads. A Look of ConvergeLocality
-/// at 10^4 robots costs a few microseconds, about what waking the other thread and
-/// putting it back to sleep costs; the fine-grained ticks, with a Look or two each, were
-/// slower on two threads than on one.
-const PARALLEL_LOOKS: usize = 8;
 
 /// A looker: its index, its cycle and what it keeps.
 type Looker<P, A> = (u32, u64, Option<KeptBy<P, A>>);
@@ -285,20 +280,19 @@ fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
             })
             .collect();
     }
-    let one = |(r, cycle, memory): &Looker<P, A>| {
-        let (r, cycle) = (*r, *cycle);
-        let mut memory = memory.clone();
-        if crashed(r) {
-            return (None, memory);
-        }
-        let d = decide_one(params, algorithm, view, r as usize, cycle, memory.as_mut())
-            .map(|d| realise(params, r as usize, cycle, d));
-        (d, memory)
-    };
-    if inputs.len() < PARALLEL_LOOKS {
-        return inputs.iter().map(one).collect();
-    }
-    inputs.par_iter().map(one).collect()
+    inputs
+        .par_iter()
+        .map(|(r, cycle, memory)| {
+            let (r, cycle) = (*r, *cycle);
+            let mut memory = memory.clone();
+            if crashed(r) {
+                return (None, memory);
+            }
+            let d = decide_one(params, algorithm, view, r as usize, cycle, memory.as_mut())
+                .map(|d| realise(params, r as usize, cycle, d));
+            (d, memory)
+        })
+        .collect()
 }
 
 /// The largest swarm whose kept shape is refreshed while the Looks' index is readied.
