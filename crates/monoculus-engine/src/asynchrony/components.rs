@@ -185,15 +185,22 @@ impl AsyncClock {
     /// robot's clock is a miss in the caches, and a crowded tick has thousands).
     pub fn sort_due(&mut self, parallel_from: usize, ends: impl Fn(u32) -> Option<Phase> + Sync) {
         use rayon::prelude::*;
-        let phases: Vec<Option<Phase>> = if self.due.len() >= parallel_from {
-            self.due
-                .par_iter()
-                .with_min_len(64)
-                .map(|&r| ends(r))
-                .collect()
-        } else {
-            self.due.iter().map(|&r| ends(r)).collect()
-        };
+        if self.due.len() < parallel_from {
+            // Read and sorted in one pass, with no list between (a fine-grained tick has
+            // a robot or two).
+            for &r in &self.due {
+                if let Some(phase) = ends(r) {
+                    self.ending[phase as usize].push(r);
+                }
+            }
+            return;
+        }
+        let phases: Vec<Option<Phase>> = self
+            .due
+            .par_iter()
+            .with_min_len(64)
+            .map(|&r| ends(r))
+            .collect();
         for (&r, phase) in self.due.iter().zip(phases) {
             if let Some(phase) = phase {
                 self.ending[phase as usize].push(r);

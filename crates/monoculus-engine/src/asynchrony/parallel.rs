@@ -22,8 +22,10 @@ pub(super) fn map_events<T: Send>(robots: &[u32], f: impl Fn(u32) -> T + Sync + 
 /// `change(i, robot, its entry)` for the robots of the chunk (`i` their place in
 /// `robots`), on all threads where they are [`MANY_EVENTS`] or more, then
 /// `then(robot, what change gave)` for each, in robot order. `robots` must be strictly
-/// ascending. The chunks bound what is held between the two (a random start at 10^6
-/// has 10^5 robots Looking on each of the first ticks).
+/// ascending, and `change` must read nothing `then` writes: under [`MANY_EVENTS`]
+/// robots, each is changed and then taken in turn. The chunks bound what is held
+/// between the two (a random start at 10^6 has 10^5 robots Looking on each of the
+/// first ticks).
 pub(super) fn update_robots<C: Send, T: Send>(
     table: &mut [C],
     robots: &[u32],
@@ -35,6 +37,14 @@ pub(super) fn update_robots<C: Send, T: Send>(
         "the robots of an event are ascending"
     );
     let change = &change;
+    if robots.len() < MANY_EVENTS {
+        // Each robot changed and then taken, with no list between (a fine-grained tick
+        // has a robot or two): `change` reads nothing `then` writes.
+        for (i, &r) in robots.iter().enumerate() {
+            then(r, change(i, r, &mut table[r as usize]));
+        }
+        return;
+    }
     for (c, chunk) in robots.chunks(UPDATE_CHUNK).enumerate() {
         let first = c * UPDATE_CHUNK;
         let changed: Vec<Option<T>> = if chunk.len() >= MANY_EVENTS {
