@@ -80,7 +80,7 @@ impl Agenda {
             if list.is_empty() {
                 continue;
             }
-            // The slot's tick: the one of `tick..tick + old` it stands for.
+            // The slot's tick: the one of `now..now + old` it stands for.
             let tick = now + (slot as u64).wrapping_sub(now) % old;
             let to = (tick & (span - 1)) as usize;
             occupied[to / 64] |= 1 << (to % 64);

@@ -185,14 +185,16 @@ impl AsyncClock {
     /// robot's clock is a miss in the caches, and a crowded tick has thousands).
     pub fn sort_due(&mut self, parallel_from: usize, ends: impl Fn(u32) -> Option<Phase> + Sync) {
         use rayon::prelude::*;
-        if self.due.len() < parallel_from {
-            // Read and sorted in one pass, with no list between (a fine-grained tick has
-            // a robot or two).
-            for &r in &self.due {
-                if let Some(phase) = ends(r) {
-                    self.ending[phase as usize].push(r);
-                }
+        let ending = &mut self.ending;
+        let mut place = |r: u32, phase: Option<Phase>| {
+            if let Some(phase) = phase {
+                ending[phase as usize].push(r);
             }
+        };
+        if self.due.len() < parallel_from {
+            // Read and placed in one pass, with no list between (a fine-grained tick
+            // has a robot or two).
+            self.due.iter().for_each(|&r| place(r, ends(r)));
             return;
         }
         let phases: Vec<Option<Phase>> = self
@@ -201,11 +203,7 @@ impl AsyncClock {
             .with_min_len(64)
             .map(|&r| ends(r))
             .collect();
-        for (&r, phase) in self.due.iter().zip(phases) {
-            if let Some(phase) = phase {
-                self.ending[phase as usize].push(r);
-            }
-        }
+        self.due.iter().zip(phases).for_each(|(&r, p)| place(r, p));
     }
 
     /// The robots whose `phase` ends at the current tick, ascending (taken out of

@@ -22,8 +22,8 @@ pub(super) fn map_events<T: Send>(robots: &[u32], f: impl Fn(u32) -> T + Sync + 
 /// `change(i, robot, its entry)` for the robots of the chunk (`i` their place in
 /// `robots`), on all threads where they are [`MANY_EVENTS`] or more, then
 /// `then(robot, what change gave)` for each, in robot order. `robots` must be strictly
-/// ascending, and `change` must read nothing `then` writes: under [`MANY_EVENTS`]
-/// robots, each is changed and then taken in turn. The chunks bound what is held
+/// ascending, and `change` must read nothing `then` writes: in a chunk of fewer than
+/// [`MANY_EVENTS`] robots, each is changed and then taken in turn. The chunks bound what is held
 /// between the two (a random start at 10^6 has 10^5 robots Looking on each of the
 /// first ticks).
 pub(super) fn update_robots<C: Send, T: Send>(
@@ -37,50 +37,40 @@ pub(super) fn update_robots<C: Send, T: Send>(
         "the robots of an event are ascending"
     );
     let change = &change;
-    if robots.len() < MANY_EVENTS {
-        // Each robot changed and then taken, with no list between (a fine-grained tick
-        // has a robot or two): `change` reads nothing `then` writes.
-        for (i, &r) in robots.iter().enumerate() {
-            then(r, change(i, r, &mut table[r as usize]));
-        }
-        return;
-    }
     for (c, chunk) in robots.chunks(UPDATE_CHUNK).enumerate() {
         let first = c * UPDATE_CHUNK;
-        let changed: Vec<Option<T>> = if chunk.len() >= MANY_EVENTS {
-            // Runs of robots, each given the stretch of the table from its first
-            // robot to the next run's first: the robots ascending, the stretches are
-            // disjoint, and each thread changes entries no other holds.
-            let mut runs = Vec::with_capacity(chunk.len().div_ceil(RUN));
-            let (mut rest, mut from) = (&mut *table, 0);
-            for (k, run) in chunk.chunks(RUN).enumerate() {
-                let to = chunk
-                    .get((k + 1) * RUN)
-                    .map_or(from + rest.len(), |&r| r as usize);
-                let (stretch, after) = std::mem::take(&mut rest).split_at_mut(to - from);
-                runs.push((first + k * RUN, run, from, stretch));
-                (rest, from) = (after, to);
+        if chunk.len() < MANY_EVENTS {
+            // Each robot changed and then taken in turn, with no list between (a
+            // fine-grained tick has a robot or two).
+            for (k, &r) in chunk.iter().enumerate() {
+                then(r, change(first + k, r, &mut table[r as usize]));
             }
-            // Each run's results written in place, in its own stretch of the output:
-            // no lists to join afterwards on one thread.
-            let mut out: Vec<Option<T>> =
-                std::iter::repeat_with(|| None).take(chunk.len()).collect();
-            out.par_chunks_mut(RUN)
-                .zip(runs)
-                .for_each(|(slots, (i, run, from, stretch))| {
-                    for (k, (&r, slot)) in run.iter().zip(slots).enumerate() {
-                        *slot = Some(change(i + k, r, &mut stretch[r as usize - from]));
-                    }
-                });
-            out
-        } else {
-            chunk
-                .iter()
-                .enumerate()
-                .map(|(k, &r)| Some(change(first + k, r, &mut table[r as usize])))
-                .collect()
-        };
-        for (&r, x) in chunk.iter().zip(changed) {
+            continue;
+        }
+        // Runs of robots, each given the stretch of the table from its first
+        // robot to the next run's first: the robots ascending, the stretches are
+        // disjoint, and each thread changes entries no other holds.
+        let mut runs = Vec::with_capacity(chunk.len().div_ceil(RUN));
+        let (mut rest, mut from) = (&mut *table, 0);
+        for (k, run) in chunk.chunks(RUN).enumerate() {
+            let to = chunk
+                .get((k + 1) * RUN)
+                .map_or(from + rest.len(), |&r| r as usize);
+            let (stretch, after) = std::mem::take(&mut rest).split_at_mut(to - from);
+            runs.push((first + k * RUN, run, from, stretch));
+            (rest, from) = (after, to);
+        }
+        // Each run's results written in place, in its own stretch of the output:
+        // no lists to join afterwards on one thread.
+        let mut out: Vec<Option<T>> = std::iter::repeat_with(|| None).take(chunk.len()).collect();
+        out.par_chunks_mut(RUN)
+            .zip(runs)
+            .for_each(|(slots, (i, run, from, stretch))| {
+                for (k, (&r, slot)) in run.iter().zip(slots).enumerate() {
+                    *slot = Some(change(i + k, r, &mut stretch[r as usize - from]));
+                }
+            });
+        for (&r, x) in chunk.iter().zip(out) {
             then(r, x.expect("every robot of the chunk changed"));
         }
     }
