@@ -499,3 +499,62 @@ fn a_moving_index_made_again_forgets_who_was_alone() {
         );
     }
 }
+
+/// A sight over at most `FEW_ROBOTS` robots is answered robot by robot, without the
+/// grid: every query as the definition says, on the first few robots of every
+/// configuration of the zoo (lattice, collinear, co-located among them), and a
+/// sight after a few moves too.
+#[test]
+fn few_robots_are_answered_as_the_definition_says() {
+    use monoculus_engine::IndexedSight;
+    use monoculus_engine::index::FEW_ROBOTS;
+    let v = VisionParams::default();
+    for (name, pts) in common::zoo(0) {
+        for n in [2, 3, 7, 12, FEW_ROBOTS] {
+            let mut few = pts[..n].to_vec();
+            let sight = IndexedSight::new(few.clone(), v);
+            agrees_with_the_definition(&format!("{name} first {n}"), &sight, &few);
+            few[1] = (few[0] + few[n - 1]) * 0.5;
+            let sight = IndexedSight::after(sight, few.clone(), v);
+            agrees_with_the_definition(&format!("{name} first {n} moved"), &sight, &few);
+        }
+    }
+}
+
+/// The filter that spares the exact test lets every blocker through, up to the widest
+/// angular tolerance it is used with: robots on rays just inside and just outside
+/// each tolerance, nearer and farther than the robot looked at, and behind the observer.
+#[test]
+fn few_robots_block_within_the_angular_tolerance() {
+    use monoculus_engine::IndexedSight;
+    let rotate = |a: f64, r: f64| glam::DVec2::new(a.cos(), a.sin()) * r;
+    for eps_ang in [1e-9, 1e-3, 0.1, 0.3, 0.49] {
+        let v = VisionParams {
+            eps_ang,
+            ..VisionParams::default()
+        };
+        let mut pts = vec![glam::DVec2::new(0.25, -0.5)];
+        let o = pts[0];
+        for &(angle, r) in &[(0.0, 4.0), (0.0, 8.0), (std::f64::consts::PI, 2.0)] {
+            pts.push(o + rotate(angle, r));
+        }
+        for f in [0.98, 1.02, 1.5] {
+            for r in [1.0, 6.0] {
+                pts.push(o + rotate(f * eps_ang, r));
+                pts.push(o + rotate(-f * eps_ang, r * 1.1));
+            }
+        }
+        let n = pts.len();
+        assert!(n <= monoculus_engine::index::FEW_ROBOTS);
+        let sight = IndexedSight::new(pts.clone(), v);
+        let mut blocked = 0;
+        for i in 0..n {
+            for j in 0..n {
+                let expect = sees_brute(&pts, i, j, &v);
+                assert_eq!(sight.sees(i, j), expect, "eps_ang {eps_ang}: {i} -> {j}");
+                blocked += usize::from(i != j && !expect);
+            }
+        }
+        assert!(blocked > n, "eps_ang {eps_ang}: robots hide others");
+    }
+}

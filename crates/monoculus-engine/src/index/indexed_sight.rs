@@ -5,7 +5,7 @@
 use std::sync::OnceLock;
 
 use monoculus_core::metrics::bounds;
-use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
+use monoculus_core::vision::{Sight, VisionParams, blocks, distinct, in_range};
 
 use super::{IndexPoint, SpatialIndex, SpatialOrder};
 
@@ -26,6 +26,11 @@ use super::{IndexPoint, SpatialIndex, SpatialOrder};
 ///
 /// The index is the dimension's own ([`IndexPoint::Index`]) unless chosen: `I =
 /// SpaceIndex<DVec2>` puts the plane in an R-tree (`vision.backend = "rtree"`).
+///
+/// A swarm of at most [`FEW_ROBOTS`] robots is answered without the index, robot by
+/// robot: a walk through a grid costs more than testing a dozen robots. Each candidate
+/// blocker is first tested by a filter on the same vectors the exact predicate computes
+/// (never rejecting a blocker), then by the predicate itself: the same answers.
 pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::Index> {
     positions: Vec<P>,
     index: I,
@@ -34,6 +39,38 @@ pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::I
     vision: VisionParams,
     /// The bounding box (computed on first use).
     bounds: OnceLock<(P, P)>,
+    /// At most [`FEW_ROBOTS`] robots: answered without the index.
+    few: bool,
+}
+
+/// The most robots a sight answers without its index (measured: docs/performance.md).
+///
+/// ```
+/// use monoculus_engine::index::FEW_ROBOTS;
+/// // A hunt's swarms of 3 to 10 robots are all answered robot by robot.
+/// assert!(FEW_ROBOTS >= 10);
+/// ```
+pub const FEW_ROBOTS: usize = 16;
+
+/// Whether `r` may block the view from `p` to `q` (else [`blocks`] is certainly false):
+/// a filter on the vectors `blocks` computes, for point robots and `eps_ang < 0.5`.
+/// `blocks` requires the angle `atan2(c, d)` between `r - p` and `q - p` (`c` the norm
+/// of their cross product, `d` their dot product, both as `blocks` computes them) to be
+/// at most `eps_ang`. Where `c > 2 eps_ang d`: either `d <= 0` and the angle is at
+/// least a right angle (unless `c = d = 0`, which the filter lets through), or
+/// `c / d > 2 eps_ang`, and `atan(2 x) > x` for `x < 0.6` with room for rounding. A
+/// NaN is let through.
+#[inline]
+fn may_block<P: IndexPoint>(p: P, r: P, q: P, eps_ang: f64) -> bool {
+    let (dr, dq) = (r - p, q - p);
+    let (c, bound) = (dr.cross_norm(dq), 2.0 * eps_ang * dr.dot(dq));
+    c <= bound || c.is_nan() || bound.is_nan()
+}
+
+/// Whether a sight over `positions` is answered without its index: few robots, seen as
+/// points, with an angular tolerance [`may_block`] holds for.
+fn few<P: IndexPoint>(positions: &[P], vision: &VisionParams) -> bool {
+    positions.len() <= FEW_ROBOTS && !vision.fat() && vision.eps_ang < 0.5
 }
 
 impl<P: IndexPoint> IndexedSight<P> {
@@ -49,6 +86,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
         IndexedSight {
             bounds: OnceLock::new(),
             index: I::new(&positions),
+            few: few(&positions, &vision),
             positions,
             hull: OnceLock::new(),
             vision,
@@ -69,6 +107,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
         IndexedSight {
             bounds: OnceLock::new(),
             index,
+            few: few(&positions, &vision),
             positions,
             hull: OnceLock::new(),
             vision,
@@ -115,16 +154,42 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
         if i == j || !distinct(p, q, &self.vision) || !in_range(p, q, &self.vision) {
             return false;
         }
+        if self.few {
+            let v = &self.vision;
+            return !self.positions.iter().enumerate().any(|(k, &r)| {
+                k != i && k != j && may_block(p, r, q, v.eps_ang) && blocks(p, r, q, v)
+            });
+        }
         self.index
             .clear(self.positions.as_slice(), &self.vision, i, j)
     }
 
     fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        if self.few {
+            let p = self.positions[i];
+            for (k, &q) in self.positions.iter().enumerate() {
+                if k != i && (q - p).length() <= radius {
+                    f(k);
+                }
+            }
+            return;
+        }
         self.index
             .for_each_within(self.positions.as_slice(), i, radius, f);
     }
 
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
+        if self.few {
+            let p = self.positions[i];
+            let mut order = Vec::with_capacity(self.positions.len());
+            order.extend(
+                (self.positions.iter().enumerate())
+                    .filter(|&(k, _)| k != i)
+                    .map(|(k, &q)| ((q - p).length(), k)),
+            );
+            order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            return Box::new(order.into_iter().map(|(_, k)| k));
+        }
         self.index.nearest_first(self.positions.as_slice(), i)
     }
 
@@ -141,15 +206,36 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
     }
 
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+        if self.few {
+            let p = self.positions[i];
+            for (k, &q) in self.positions.iter().enumerate() {
+                if (q - p).length() > radius {
+                    f(k);
+                }
+            }
+            return;
+        }
         self.index
             .for_each_beyond(self.positions.as_slice(), i, radius, f);
     }
 
     fn alone(&self, j: usize) -> bool {
+        if self.few {
+            let (p, eps) = (self.positions[j], self.vision.eps_pos);
+            return (self.positions.iter().enumerate())
+                .all(|(k, &q)| k == j || (q - p).length() > eps);
+        }
         self.index.alone(self.positions.as_slice(), &self.vision, j)
     }
 
+    /// For few robots, every other one: they are counted without sorting them by
+    /// distance.
     fn neighbours(&self, i: usize) -> Vec<usize> {
+        if self.few {
+            let mut others = Vec::with_capacity(self.positions.len());
+            others.extend((0..self.positions.len()).filter(|&k| k != i));
+            return others;
+        }
         self.index.neighbours(self.positions.as_slice(), i)
     }
 

@@ -12,7 +12,7 @@ mod spatial_index;
 mod tube;
 
 pub use index_point::IndexPoint;
-pub use indexed_sight::IndexedSight;
+pub use indexed_sight::{FEW_ROBOTS, IndexedSight};
 pub use locate::Locate;
 pub use plane_index::PlaneIndex;
 pub(crate) use segment_grid::prefetch;

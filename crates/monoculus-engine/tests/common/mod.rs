@@ -24,8 +24,9 @@ pub fn zoo(seed: u64) -> Vec<(&'static str, Vec<DVec2>)> {
     let mut stacked = square(30, 5.0, seed);
     stacked.extend_from_slice(&stacked.clone()[..10]);
     stacked.push(stacked[0] + DVec2::new(1e-10, 0.0));
+    // (More robots than a sight answers without its grid, as every configuration here.)
     let mut rays = vec![DVec2::ZERO];
-    for k in 1..6 {
+    for k in 1..10 {
         for dir in [
             DVec2::new(1.0, 0.0),
             DVec2::new(0.6, 0.8),
