@@ -1,6 +1,7 @@
 //! Results files: `runs.csv` (or one file per shard), `summary.csv`, `config.toml`,
 //! `provenance.toml`; written so that no kill and no second process can corrupt them.
 
+mod fields;
 mod fsio;
 mod lock;
 mod merge;

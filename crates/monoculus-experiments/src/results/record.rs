@@ -317,42 +317,7 @@ impl RunMetrics {
     }
 }
 
-/// The fields of a serialised record, in column order: as the CSV writer writes them,
-/// split again by a CSV reader. The reader is made once per thread (it builds an
-/// automaton: most of the cost of a small run's row otherwise), the writer with a small
-/// buffer (a row spills into its `Vec` as it needs).
-pub(crate) fn fields_of<T: serde::Serialize>(value: &T) -> Vec<String> {
-    thread_local! {
-        static READER: std::cell::RefCell<csv_core::Reader> =
-            std::cell::RefCell::new(csv_core::Reader::new());
-    }
-    let mut writer = csv::WriterBuilder::new()
-        .has_headers(false)
-        .buffer_capacity(256)
-        .from_writer(Vec::new());
-    writer.serialize(value).expect("a row serialises");
-    let bytes = writer.into_inner().expect("memory");
-    READER.with_borrow_mut(|reader| {
-        reader.reset();
-        // Unquoting only shortens: the fields fit in as many bytes as the record.
-        let mut out = vec![0u8; bytes.len()];
-        let mut ends = vec![0usize; bytes.len() + 1];
-        let (result, _, _, n) = reader.read_record(&bytes, &mut out, &mut ends);
-        assert!(
-            matches!(result, csv_core::ReadRecordResult::Record),
-            "one whole record: {result:?}"
-        );
-        let mut start = 0;
-        ends[..n]
-            .iter()
-            .map(|&end| {
-                let field = String::from_utf8_lossy(&out[start..end]).into_owned();
-                start = end;
-                field
-            })
-            .collect()
-    })
-}
+pub(crate) use super::fields::fields_of;
 
 /// The columns of a typed part of a row (from a first column on), found once per file
 /// and then used for every row.
@@ -437,8 +402,8 @@ pub fn run_row(
 
 #[cfg(test)]
 mod tests {
-    /// The fields, split by a CSV reader made for the one record: what `fields_of`
-    /// returned before it kept its reader.
+    /// The fields as the CSV writer writes the record, split again by a CSV reader:
+    /// what `fields_of` must give without the CSV text between.
     fn fields_by_a_fresh_reader<T: serde::Serialize>(value: &T) -> Vec<String> {
         let mut w = csv::WriterBuilder::new()
             .has_headers(false)
@@ -466,6 +431,11 @@ mod tests {
             n: u64,
             flag: Option<bool>,
             empty: &'a str,
+            #[serde(with = "super::plain")]
+            plain: f64,
+            count: Option<u64>,
+            small: f32,
+            negative: i64,
         }
         for name in ["plain", "a,b", "quote \"q\"", "line\nbreak", "", "é,\"\r\n"] {
             for x in [0.0, -1.5, 1e300, f64::NAN, 1.0 / 3.0] {
@@ -473,13 +443,15 @@ mod tests {
                     name,
                     x,
                     n: 42,
-                    flag: (x > 0.0).then_some(true),
+                    flag: (x > 0.0).then_some(x > 1.0),
                     empty: "",
+                    plain: x,
+                    count: (x < 0.0).then_some(7),
+                    small: x as f32,
+                    negative: -3,
                 };
-                // Twice: the kept writer and reader start afresh each time.
                 assert_eq!(fields_of(&row), fields_by_a_fresh_reader(&row));
-                assert_eq!(fields_of(&row), fields_by_a_fresh_reader(&row));
-                // A record of another length between two.
+                // A record of another length.
                 assert_eq!(fields_of(&(1, "a")), ["1", "a"]);
             }
         }
@@ -534,6 +506,7 @@ mod tests {
             lines.next().unwrap(),
             "3,12,100,40,0.1,0.0000001,inf,100,true,false,box,box,1.5,0.75,1,0.25,,2,1,2,0,false,0,0,,40,box,9,0,1.235,00ff"
         );
+        assert_eq!(m.fields(), fields_by_a_fresh_reader(&m));
         let header: Vec<String> = want.clone();
         let schema = RunMetrics::schema(&header).unwrap();
         let back: RunMetrics = schema.read(&m.fields()).unwrap();
