@@ -325,6 +325,10 @@ pub struct RowSchema {
     from: usize,
     head: csv::StringRecord,
     header: Vec<String>,
+    /// The whole header, the columns before `from` renamed to names no field has (a
+    /// control character and the column's number), so that a whole record is read as
+    /// its typed part with no copy.
+    whole: csv::StringRecord,
 }
 
 impl RowSchema {
@@ -334,10 +338,20 @@ impl RowSchema {
             .iter()
             .position(|h| h == first)
             .ok_or_else(|| format!("no column {first}"))?;
+        let whole = (header.iter().enumerate())
+            .map(|(k, h)| {
+                if k < from {
+                    format!("\u{1}{k}")
+                } else {
+                    h.clone()
+                }
+            })
+            .collect();
         Ok(RowSchema {
             from,
             head: csv::StringRecord::from(header[from..].to_vec()),
             header: header.to_vec(),
+            whole,
         })
     }
 
@@ -355,35 +369,52 @@ impl RowSchema {
             ));
         }
         let rec: csv::StringRecord = row[from..].iter().map(AsRef::as_ref).collect();
-        rec.deserialize(Some(&self.head)).map_err(|e| {
-            let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
-                return e.to_string();
-            };
-            let message = err.kind().to_string();
-            // The column: as serde reports it, or the one holding the quoted value.
-            let quoted = message.split('`').nth(1);
-            let column = err.field().map(|k| from + k as usize).or_else(|| {
-                quoted.and_then(|v| {
-                    row[from..]
-                        .iter()
-                        .position(|c| c.as_ref() == v)
-                        .map(|k| from + k)
-                })
-            });
-            match column.and_then(|c| self.header.get(c)) {
-                Some(name) => format!("column {name}: {message}"),
-                None => message,
-            }
-        })
+        rec.deserialize(Some(&self.head))
+            .map_err(|e| self.message(e, from, row))
     }
 
-    /// [`RowSchema::read`] of a record as read from a file.
+    /// [`RowSchema::read`] of a record as read from a file: read whole, the columns
+    /// before the typed part under names no field has.
     pub fn read_record<T: serde::de::DeserializeOwned>(
         &self,
         row: &csv::StringRecord,
     ) -> Result<T, String> {
-        let fields: Vec<&str> = row.iter().collect();
-        self.read(&fields)
+        if row.len() != self.header.len() {
+            return Err(format!(
+                "{} fields for {} columns",
+                row.len(),
+                self.header.len()
+            ));
+        }
+        row.deserialize(Some(&self.whole)).map_err(|e| {
+            let fields: Vec<&str> = row.iter().collect();
+            self.message(e, 0, &fields)
+        })
+    }
+
+    /// The message of a failed read of `row`, naming the column; `offset` is where the
+    /// record read starts in the row.
+    fn message<S: AsRef<str>>(&self, e: csv::Error, offset: usize, row: &[S]) -> String {
+        let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
+            return e.to_string();
+        };
+        let message = err.kind().to_string();
+        // The column: as serde reports it, or the one of the typed part holding the
+        // quoted value.
+        let quoted = message.split('`').nth(1);
+        let from = self.from;
+        let column = err.field().map(|k| offset + k as usize).or_else(|| {
+            quoted.and_then(|v| {
+                row[from..]
+                    .iter()
+                    .position(|c| c.as_ref() == v)
+                    .map(|k| from + k)
+            })
+        });
+        match column.and_then(|c| self.header.get(c)) {
+            Some(name) => format!("column {name}: {message}"),
+            None => message,
+        }
     }
 }
 
@@ -513,6 +544,35 @@ mod tests {
         assert_eq!(back.seed, 3);
         assert_eq!(back.rho, f64::INFINITY);
         assert_eq!(back.final_extent_z, None);
+        // A whole record as read from a file, parameter columns first.
+        let mut whole_header = vec!["name".to_string(), "rho".to_string()];
+        whole_header.extend(header.iter().cloned());
+        let whole = RunMetrics::schema(&whole_header).unwrap();
+        let mut fields = vec!["x".to_string(), "not a number".to_string()];
+        fields.extend(m.fields());
+        let record = csv::StringRecord::from(fields.clone());
+        let written = RunMetrics {
+            wall_ms: 1.235,
+            ..m.clone()
+        };
+        assert_eq!(whole.read_record::<RunMetrics>(&record).unwrap(), written);
+        for (column, value) in [(8, "1.2.3"), (10, "maybe"), (2, "-1")] {
+            let mut bad = fields.clone();
+            bad[column] = value.into();
+            let message = whole
+                .read_record::<RunMetrics>(&csv::StringRecord::from(bad))
+                .unwrap_err();
+            let name = &whole_header[column];
+            assert!(
+                message.starts_with(&format!("column {name}: ")),
+                "{message}"
+            );
+        }
+        let short = csv::StringRecord::from(fields[..5].to_vec());
+        assert_eq!(
+            whole.read_record::<RunMetrics>(&short).unwrap_err(),
+            "5 fields for 33 columns"
+        );
         let mut bad = m.fields();
         bad[6] = "1.2.3".into();
         assert_eq!(
