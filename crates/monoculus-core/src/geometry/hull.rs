@@ -25,6 +25,20 @@ pub trait HullGeometry: Point {
     fn hull_vertices(_points: &[Self]) -> Vec<Self> {
         Vec::new()
     }
+    /// [`HullGeometry::hull_and_diameter`] of a set, given the vertices
+    /// [`HullGeometry::hull_vertices`] returned for it (not empty): the same values to
+    /// the bit, without taking their hull again.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use monoculus_core::geometry::HullGeometry;
+    /// let pts = [DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::ONE, DVec2::splat(0.5)];
+    /// let hull = DVec2::hull_vertices(&pts);
+    /// assert_eq!(DVec2::vertices_hull_and_diameter(&hull), DVec2::hull_and_diameter(&pts));
+    /// ```
+    fn vertices_hull_and_diameter(vertices: &[Self]) -> (f64, f64) {
+        Self::hull_and_diameter(vertices)
+    }
     /// The points of a set that may be vertices of its hull, the set given as a pass
     /// over it that can be made twice: their hull, and so every measure taken from it
     /// (extents included), is the set's, to the bit; every point where no throw-away
@@ -276,6 +290,12 @@ impl HullGeometry for DVec2 {
         convex_hull_2d(points)
     }
 
+    /// The hull of its own vertices is the same sequence (it is unique and the chain
+    /// starts at the least point): its area and diameter are taken straight from them.
+    fn vertices_hull_and_diameter(vertices: &[Self]) -> (f64, f64) {
+        (polygon_area(vertices), hull_diameter(vertices))
+    }
+
     fn hull_candidates_of<I: Iterator<Item = Self>>(points: impl Fn() -> I) -> Vec<Self> {
         match ThrowAway::of(points()) {
             Some(step) => points().filter(|&p| step.may_be_vertex(p)).collect(),
@@ -393,6 +413,18 @@ mod tests {
                 DVec2::hull_and_diameter(&kept).0.to_bits(),
                 DVec2::hull_and_diameter(pts).0.to_bits(),
                 "set {k} area"
+            );
+            // The hull of the vertices is the vertices; their measures are the set's.
+            assert_eq!(
+                convex_hull_2d(&expected),
+                expected,
+                "set {k} hull of the hull"
+            );
+            let bits = |(a, d): (f64, f64)| (a.to_bits(), d.to_bits());
+            assert_eq!(
+                bits(DVec2::vertices_hull_and_diameter(&expected)),
+                bits(DVec2::hull_and_diameter(pts)),
+                "set {k} measures from the vertices"
             );
         }
         for pts in [&[][..], &[DVec2::ONE][..], &[DVec2::ZERO, DVec2::ONE][..]] {

@@ -41,8 +41,11 @@ pub fn measure_shape<P: IndexPoint>(
     hull.0 = P::hull_vertices(&correct);
     // Area, diameter and extents are those of the hull's vertices (the same vertex
     // sequence, so the same values to the bit); in space there is no vertex list.
-    let basis: &[P] = if hull.0.is_empty() { &correct } else { &hull.0 };
-    let mut measured = Shape::of(basis);
+    let mut measured = if hull.0.is_empty() {
+        Shape::of(&correct)
+    } else {
+        Shape::of_vertices(&hull.0)
+    };
     record_hull(&mut tally, &shape, &mut measured);
     *shape = measured;
 }
@@ -85,8 +88,28 @@ pub fn advance_clock(mut clock: ResMut<Clock>) {
 impl Shape {
     /// Measures a configuration.
     pub fn of<P: IndexPoint>(points: &[P]) -> Shape {
+        Self::measured(points, P::hull_and_diameter(points))
+    }
+
+    /// Measures a configuration from the vertices of its hull, as
+    /// [`HullGeometry::hull_vertices`](monoculus_core::geometry::HullGeometry) gives
+    /// them (not empty): the same measures as [`Shape::of`] the configuration, to the
+    /// bit, without taking their hull again.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use monoculus_core::geometry::HullGeometry;
+    /// use monoculus_engine::resources::Shape;
+    /// let pts = [DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::splat(0.25)];
+    /// let vertices = DVec2::hull_vertices(&pts);
+    /// assert_eq!(Shape::of_vertices(&vertices).hull, Shape::of(&pts).hull);
+    /// ```
+    pub fn of_vertices<P: IndexPoint>(vertices: &[P]) -> Shape {
+        Self::measured(vertices, P::vertices_hull_and_diameter(vertices))
+    }
+
+    fn measured<P: IndexPoint>(points: &[P], (hull, diameter): (f64, f64)) -> Shape {
         let e = monoculus_core::metrics::extents(points);
-        let (hull, diameter) = P::hull_and_diameter(points);
         Shape {
             hull,
             hull_max: hull,
