@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::ResultsError;
 use super::fsio::write_atomic;
-use super::record::{RowSchema, RunMetrics, fields_of, param_header, param_values, plain};
+use super::record::{METRIC_COLUMNS, RowSchema, fields_of, param_header, param_values, plain};
 use super::rows::RunRows;
 use crate::config::Experiment;
 
@@ -182,16 +182,14 @@ pub fn summary_row(mut params: Vec<String>, s: &CellStats, missing: u64) -> Vec<
 /// each run counted once, with the runs the cell lacks.
 pub fn summary_bytes(exp: &Experiment, rows: &RunRows) -> Vec<u8> {
     let mut stats: Vec<CellStats> = exp.cells.iter().map(|_| CellStats::default()).collect();
-    let schema = RunMetrics::schema(&rows.header).expect("runs.csv has a seed column");
     let mut unique = std::collections::HashSet::new();
-    for (row, id) in rows.rows.iter().zip(&rows.ids) {
-        if !unique.insert(*id) {
-            continue;
+    if !rows.rows.is_empty() {
+        let read = Summarised::new(&rows.header);
+        for (row, id) in rows.rows.iter().zip(&rows.ids) {
+            if unique.insert(*id) {
+                read.add(row, &mut stats[id.cell]);
+            }
         }
-        let m: RunMetrics = schema.read_record(row).expect("rows are checked when read");
-        let s = &mut stats[id.cell];
-        s.add(m.rho, m.tau, m.rounds as f64, m.converged, m.stuck);
-        s.add_hull(m.hull_growth_max);
     }
     let mut out = csv::WriterBuilder::new().from_writer(vec![]);
     out.write_record(summary_header(&param_header(exp)))
@@ -204,6 +202,55 @@ pub fn summary_bytes(exp: &Experiment, rows: &RunRows) -> Vec<u8> {
             .expect("memory");
     }
     out.into_inner().expect("memory")
+}
+
+/// The columns of a checked row a summary reads, read as [`super::RunMetrics`] reads them (the
+/// rows were read whole when checked: these six alone are read again).
+struct Summarised {
+    rho: usize,
+    tau: usize,
+    rounds: usize,
+    converged: usize,
+    stuck: usize,
+    growth: usize,
+}
+
+impl Summarised {
+    /// For checked rows with columns `header`: this build's, the metric columns last
+    /// but one (a parameter column may be named like a metric).
+    fn new(header: &[String]) -> Self {
+        let metrics = header.len() - METRIC_COLUMNS.len() - 1;
+        let col = |name: &str| {
+            let at = metrics
+                + (METRIC_COLUMNS.iter().position(|&c| c == name)).expect("a metric column");
+            debug_assert_eq!(header[at], name, "checked rows have this build's columns");
+            at
+        };
+        Summarised {
+            rho: col("rho"),
+            tau: col("tau"),
+            rounds: col("rounds"),
+            converged: col("converged"),
+            stuck: col("stuck"),
+            growth: col("hull_growth_max"),
+        }
+    }
+
+    /// Adds a checked row's run to its cell's statistics.
+    fn add(&self, row: &csv::StringRecord, s: &mut CellStats) {
+        fn read<T: std::str::FromStr>(row: &csv::StringRecord, c: usize) -> T {
+            row[c].parse().ok().expect("rows are checked when read")
+        }
+        let rounds: u64 = read(row, self.rounds);
+        s.add(
+            read(row, self.rho),
+            read(row, self.tau),
+            rounds as f64,
+            read(row, self.converged),
+            read(row, self.stuck),
+        );
+        s.add_hull(read(row, self.growth));
+    }
 }
 
 /// Writes `summary.csv`, whole or not at all, from checked rows (see [`summary_bytes`]).
@@ -227,6 +274,79 @@ mod tests {
         let header: Vec<String> = SUMMARY_COLUMNS.iter().map(|c| c.to_string()).collect();
         let back: SummaryStats = SummaryStats::schema(&header).unwrap().read(&row).unwrap();
         assert_eq!(fields_of(&back), row);
+    }
+
+    /// The six columns a summary reads, read alone, give the statistics that reading
+    /// each row whole as a `RunMetrics` gives.
+    #[test]
+    fn a_summary_reads_its_columns_as_a_whole_row_reads_them() {
+        use super::super::record::{CONFIG_HASH_COLUMN, RunMetrics};
+        let mut header = vec!["name".to_string(), "rho".to_string(), "seed".to_string()];
+        header.extend(METRIC_COLUMNS.iter().map(|c| c.to_string()));
+        header.push(CONFIG_HASH_COLUMN.into());
+        // The parameter column named like a metric comes first: the metric's is read.
+        let read = Summarised::new(&header);
+        let schema = RunMetrics::schema(&header).unwrap();
+        let values = [
+            0.1,
+            f64::INFINITY,
+            f64::NAN,
+            1e-7,
+            12345.678,
+            0.0,
+            1.0 / 3.0,
+        ];
+        let (mut whole, mut alone) = (CellStats::default(), CellStats::default());
+        for (k, &x) in values.iter().enumerate() {
+            let m = RunMetrics {
+                seed: k as u64,
+                rounds: 3 * k as u64 + 1,
+                activations: 10,
+                moves: 4,
+                d_opt: 1.0,
+                d_max: 2.0,
+                rho: x,
+                tau: values[(k + 3) % values.len()],
+                converged: k % 2 == 0,
+                stuck: k % 3 == 1,
+                stopped_by: "diameter".into(),
+                goal: "disc".into(),
+                final_diameter: 1.5,
+                final_radius: 0.75,
+                final_extent_x: Some(1.0),
+                final_extent_y: Some(0.5),
+                final_extent_z: None,
+                hull_area_initial: 2.0,
+                hull_area_final: 1.0,
+                hull_area_max: 2.0,
+                hull_growth_rounds: k as u64 % 2,
+                hull_grew: k % 2 == 1,
+                hull_growth_max: values[(k + 1) % values.len()],
+                committed_hull_growth: 0,
+                terminated: None,
+                distance: 4.0,
+                stop_criterion: "diameter".into(),
+                ticks: None,
+                faulty: 0,
+                wall_ms: 0.5,
+                config_hash: "00ff".into(),
+            };
+            let mut fields = vec!["x".to_string(), "not a number".to_string()];
+            fields.extend(m.fields());
+            let row = csv::StringRecord::from(fields);
+            let back: RunMetrics = schema.read_record(&row).unwrap();
+            whole.add(
+                back.rho,
+                back.tau,
+                back.rounds as f64,
+                back.converged,
+                back.stuck,
+            );
+            whole.add_hull(back.hull_growth_max);
+            read.add(&row, &mut alone);
+        }
+        assert_eq!(format!("{whole:?}"), format!("{alone:?}"));
+        assert_eq!((alone.runs, alone.converged, alone.stuck), (7, 4, 2));
     }
 
     #[test]
