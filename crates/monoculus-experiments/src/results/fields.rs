@@ -7,11 +7,15 @@ use serde::ser::{self, Impossible};
 /// The fields of a serialised record, in column order: what the CSV writer writes for
 /// each (integers and floats in the writer's own forms, `true`/`false`, an absent
 /// option as an empty field), unquoted, as a CSV reader gives them back (tested against
-/// one). A record is a struct or a tuple of scalars.
+/// one). A record is a struct or a tuple of scalars, or one scalar.
 pub(crate) fn fields_of<T: Serialize>(value: &T) -> Vec<String> {
     let mut out = Vec::with_capacity(48);
+    let fields = Fields {
+        out: &mut out,
+        nested: false,
+    };
     value
-        .serialize(Record { out: &mut out })
+        .serialize(fields)
         .expect("a row is a struct or a tuple of scalars");
     out
 }
@@ -34,14 +38,37 @@ impl ser::Error for NotScalar {
     }
 }
 
-/// The record: its fields go to `out` one by one.
-struct Record<'a> {
+/// Where the fields go, one by one: a scalar is one field, a struct or a tuple (at the
+/// top only) one field a member.
+struct Fields<'a> {
     out: &'a mut Vec<String>,
+    /// Inside the record: a struct or a tuple here is not a field.
+    nested: bool,
 }
 
-/// One field.
-struct Field<'a> {
-    out: &'a mut Vec<String>,
+impl Fields<'_> {
+    fn push(self, field: String) -> Result<(), NotScalar> {
+        self.out.push(field);
+        Ok(())
+    }
+
+    /// The record itself, whose members are fields.
+    fn record(self, what: &str) -> Result<Self, NotScalar> {
+        if self.nested {
+            return not_scalar(what);
+        }
+        Ok(Fields {
+            out: self.out,
+            nested: true,
+        })
+    }
+
+    fn member<T: ?Sized + Serialize>(&mut self, value: &T) -> Result<(), NotScalar> {
+        value.serialize(Fields {
+            out: self.out,
+            nested: true,
+        })
+    }
 }
 
 fn not_scalar<T>(what: &str) -> Result<T, NotScalar> {
@@ -53,22 +80,21 @@ macro_rules! scalars {
         $(
             fn $method(self, v: $ty) -> Result<(), NotScalar> {
                 #[allow(clippy::redundant_closure_call, reason = "one pattern for every scalar")]
-                self.out.push(($text)(v));
-                Ok(())
+                self.push(($text)(v))
             }
         )*
     };
 }
 
-impl ser::Serializer for Field<'_> {
+impl ser::Serializer for Fields<'_> {
     type Ok = ();
     type Error = NotScalar;
     type SerializeSeq = Impossible<(), NotScalar>;
-    type SerializeTuple = Impossible<(), NotScalar>;
+    type SerializeTuple = Self;
     type SerializeTupleStruct = Impossible<(), NotScalar>;
     type SerializeTupleVariant = Impossible<(), NotScalar>;
     type SerializeMap = Impossible<(), NotScalar>;
-    type SerializeStruct = Impossible<(), NotScalar>;
+    type SerializeStruct = Self;
     type SerializeStructVariant = Impossible<(), NotScalar>;
 
     scalars! {
@@ -85,16 +111,11 @@ impl ser::Serializer for Field<'_> {
         serialize_f64: f64 => |v: f64| ryu::Buffer::new().format(v).to_string();
         serialize_char: char => |v: char| v.to_string();
         serialize_str: &str => |v: &str| v.to_string();
-    }
-
-    fn serialize_bytes(self, v: &[u8]) -> Result<(), NotScalar> {
-        self.out.push(String::from_utf8_lossy(v).into_owned());
-        Ok(())
+        serialize_bytes: &[u8] => |v: &[u8]| String::from_utf8_lossy(v).into_owned();
     }
 
     fn serialize_none(self) -> Result<(), NotScalar> {
-        self.out.push(String::new());
-        Ok(())
+        self.push(String::new())
     }
 
     fn serialize_some<T: ?Sized + Serialize>(self, value: &T) -> Result<(), NotScalar> {
@@ -102,13 +123,11 @@ impl ser::Serializer for Field<'_> {
     }
 
     fn serialize_unit(self) -> Result<(), NotScalar> {
-        self.out.push(String::new());
-        Ok(())
+        self.push(String::new())
     }
 
     fn serialize_unit_struct(self, name: &'static str) -> Result<(), NotScalar> {
-        self.out.push(name.to_string());
-        Ok(())
+        self.push(name.to_string())
     }
 
     fn serialize_unit_variant(
@@ -117,8 +136,7 @@ impl ser::Serializer for Field<'_> {
         _index: u32,
         variant: &'static str,
     ) -> Result<(), NotScalar> {
-        self.out.push(variant.to_string());
-        Ok(())
+        self.push(variant.to_string())
     }
 
     fn serialize_newtype_struct<T: ?Sized + Serialize>(
@@ -143,8 +161,8 @@ impl ser::Serializer for Field<'_> {
         not_scalar("a sequence")
     }
 
-    fn serialize_tuple(self, _len: usize) -> Result<Self::SerializeTuple, NotScalar> {
-        not_scalar("a tuple")
+    fn serialize_tuple(self, _len: usize) -> Result<Self, NotScalar> {
+        self.record("a tuple")
     }
 
     fn serialize_tuple_struct(
@@ -169,12 +187,8 @@ impl ser::Serializer for Field<'_> {
         not_scalar("a map")
     }
 
-    fn serialize_struct(
-        self,
-        _name: &'static str,
-        _len: usize,
-    ) -> Result<Self::SerializeStruct, NotScalar> {
-        not_scalar("a struct")
+    fn serialize_struct(self, _name: &'static str, _len: usize) -> Result<Self, NotScalar> {
+        self.record("a struct")
     }
 
     fn serialize_struct_variant(
@@ -188,7 +202,7 @@ impl ser::Serializer for Field<'_> {
     }
 }
 
-impl ser::SerializeStruct for Record<'_> {
+impl ser::SerializeStruct for Fields<'_> {
     type Ok = ();
     type Error = NotScalar;
 
@@ -197,7 +211,7 @@ impl ser::SerializeStruct for Record<'_> {
         _key: &'static str,
         value: &T,
     ) -> Result<(), NotScalar> {
-        value.serialize(Field { out: self.out })
+        self.member(value)
     }
 
     fn end(self) -> Result<(), NotScalar> {
@@ -205,145 +219,15 @@ impl ser::SerializeStruct for Record<'_> {
     }
 }
 
-impl ser::SerializeTuple for Record<'_> {
+impl ser::SerializeTuple for Fields<'_> {
     type Ok = ();
     type Error = NotScalar;
 
     fn serialize_element<T: ?Sized + Serialize>(&mut self, value: &T) -> Result<(), NotScalar> {
-        value.serialize(Field { out: self.out })
+        self.member(value)
     }
 
     fn end(self) -> Result<(), NotScalar> {
         Ok(())
-    }
-}
-
-impl<'a> ser::Serializer for Record<'a> {
-    type Ok = ();
-    type Error = NotScalar;
-    type SerializeSeq = Impossible<(), NotScalar>;
-    type SerializeTuple = Self;
-    type SerializeTupleStruct = Impossible<(), NotScalar>;
-    type SerializeTupleVariant = Impossible<(), NotScalar>;
-    type SerializeMap = Impossible<(), NotScalar>;
-    type SerializeStruct = Self;
-    type SerializeStructVariant = Impossible<(), NotScalar>;
-
-    fn serialize_struct(self, _name: &'static str, _len: usize) -> Result<Self, NotScalar> {
-        Ok(self)
-    }
-
-    fn serialize_tuple(self, _len: usize) -> Result<Self, NotScalar> {
-        Ok(self)
-    }
-
-    fn serialize_bool(self, _v: bool) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_i8(self, _v: i8) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_i16(self, _v: i16) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_i32(self, _v: i32) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_i64(self, _v: i64) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_u8(self, _v: u8) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_u16(self, _v: u16) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_u32(self, _v: u32) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_u64(self, _v: u64) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_f32(self, _v: f32) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_f64(self, _v: f64) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_char(self, _v: char) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_str(self, _v: &str) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_bytes(self, _v: &[u8]) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_none(self) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_some<T: ?Sized + Serialize>(self, _value: &T) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_unit(self) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_unit_struct(self, _name: &'static str) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_unit_variant(
-        self,
-        _name: &'static str,
-        _index: u32,
-        _variant: &'static str,
-    ) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_newtype_struct<T: ?Sized + Serialize>(
-        self,
-        _name: &'static str,
-        value: &T,
-    ) -> Result<(), NotScalar> {
-        value.serialize(self)
-    }
-    fn serialize_newtype_variant<T: ?Sized + Serialize>(
-        self,
-        _name: &'static str,
-        _index: u32,
-        _variant: &'static str,
-        _value: &T,
-    ) -> Result<(), NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_seq(self, _len: Option<usize>) -> Result<Self::SerializeSeq, NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_tuple_struct(
-        self,
-        _name: &'static str,
-        _len: usize,
-    ) -> Result<Self::SerializeTupleStruct, NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_tuple_variant(
-        self,
-        _name: &'static str,
-        _index: u32,
-        _variant: &'static str,
-        _len: usize,
-    ) -> Result<Self::SerializeTupleVariant, NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_map(self, _len: Option<usize>) -> Result<Self::SerializeMap, NotScalar> {
-        not_scalar("a record")
-    }
-    fn serialize_struct_variant(
-        self,
-        _name: &'static str,
-        _index: u32,
-        _variant: &'static str,
-        _len: usize,
-    ) -> Result<Self::SerializeStructVariant, NotScalar> {
-        not_scalar("a record")
     }
 }

@@ -323,9 +323,8 @@ pub(crate) use super::fields::fields_of;
 /// and then used for every row.
 pub struct RowSchema {
     from: usize,
-    head: csv::StringRecord,
     header: Vec<String>,
-    /// The whole header, the columns before `from` renamed to names no field has (a
+    /// The header with the columns before `from` renamed to names no field has (a
     /// control character and the column's number), so that a whole record is read as
     /// its typed part with no copy.
     whole: csv::StringRecord,
@@ -349,7 +348,6 @@ impl RowSchema {
             .collect();
         Ok(RowSchema {
             from,
-            head: csv::StringRecord::from(header[from..].to_vec()),
             header: header.to_vec(),
             whole,
         })
@@ -360,21 +358,10 @@ impl RowSchema {
         &self,
         row: &[S],
     ) -> Result<T, String> {
-        let from = self.from;
-        if row.len() != self.header.len() {
-            return Err(format!(
-                "{} fields for {} columns",
-                row.len(),
-                self.header.len()
-            ));
-        }
-        let rec: csv::StringRecord = row[from..].iter().map(AsRef::as_ref).collect();
-        rec.deserialize(Some(&self.head))
-            .map_err(|e| self.message(e, from, row))
+        self.read_record(&row.iter().map(AsRef::as_ref).collect())
     }
 
-    /// [`RowSchema::read`] of a record as read from a file: read whole, the columns
-    /// before the typed part under names no field has.
+    /// [`RowSchema::read`] of a record as read from a file, with no copy of it.
     pub fn read_record<T: serde::de::DeserializeOwned>(
         &self,
         row: &csv::StringRecord,
@@ -386,15 +373,12 @@ impl RowSchema {
                 self.header.len()
             ));
         }
-        row.deserialize(Some(&self.whole)).map_err(|e| {
-            let fields: Vec<&str> = row.iter().collect();
-            self.message(e, 0, &fields)
-        })
+        row.deserialize(Some(&self.whole))
+            .map_err(|e| self.message(e, row))
     }
 
-    /// The message of a failed read of `row`, naming the column; `offset` is where the
-    /// record read starts in the row.
-    fn message<S: AsRef<str>>(&self, e: csv::Error, offset: usize, row: &[S]) -> String {
+    /// The message of a failed read of `row`, naming the column.
+    fn message(&self, e: csv::Error, row: &csv::StringRecord) -> String {
         let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
             return e.to_string();
         };
@@ -403,13 +387,8 @@ impl RowSchema {
         // quoted value.
         let quoted = message.split('`').nth(1);
         let from = self.from;
-        let column = err.field().map(|k| offset + k as usize).or_else(|| {
-            quoted.and_then(|v| {
-                row[from..]
-                    .iter()
-                    .position(|c| c.as_ref() == v)
-                    .map(|k| from + k)
-            })
+        let column = err.field().map(|k| k as usize).or_else(|| {
+            quoted.and_then(|v| row.iter().skip(from).position(|c| c == v).map(|k| from + k))
         });
         match column.and_then(|c| self.header.get(c)) {
             Some(name) => format!("column {name}: {message}"),
