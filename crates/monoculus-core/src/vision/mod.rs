@@ -7,8 +7,8 @@ mod predicate;
 mod sight;
 
 pub use oracle::{
-    ExactSight, representatives, seen_sweep_2d, sees_brute, visible_points_brute,
-    visible_points_sweep_2d,
+    ExactSight, beyond_brute, nearest_first_brute, representatives, seen_sweep_2d, sees_brute,
+    visible_points_brute, visible_points_sweep_2d, within_brute,
 };
 pub use params::VisionParams;
 pub use predicate::{blocks, distinct, in_range};

@@ -18,6 +18,64 @@ pub fn sees_brute<P: Point>(positions: &[P], i: usize, j: usize, v: &VisionParam
         .any(|(k, &r)| k != i && k != j && blocks(p, r, q, v))
 }
 
+/// Calls `f` with every robot other than `i` within distance `radius` (inclusive) of
+/// robot `i`, ascending: [`Sight::for_each_within`] by its definition, O(n).
+///
+/// ```
+/// use glam::DVec2;
+/// let pts = [DVec2::ZERO, DVec2::X, DVec2::new(3.0, 0.0)];
+/// let mut near = vec![];
+/// monoculus_core::vision::within_brute(&pts, 0, 1.0, &mut |k| near.push(k));
+/// assert_eq!(near, [1]);
+/// ```
+pub fn within_brute<P: Point>(positions: &[P], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+    let p = positions[i];
+    for (k, &q) in positions.iter().enumerate() {
+        if k != i && (q - p).length() <= radius {
+            f(k);
+        }
+    }
+}
+
+/// Calls `f` with every robot farther than `radius` from robot `i`, ascending:
+/// [`Sight::for_each_beyond`] by its definition, O(n).
+///
+/// ```
+/// use glam::DVec2;
+/// let pts = [DVec2::ZERO, DVec2::X, DVec2::new(3.0, 0.0)];
+/// let mut far = vec![];
+/// monoculus_core::vision::beyond_brute(&pts, 0, 1.0, &mut |k| far.push(k));
+/// assert_eq!(far, [2]);
+/// ```
+pub fn beyond_brute<P: Point>(positions: &[P], i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
+    let p = positions[i];
+    for (k, &q) in positions.iter().enumerate() {
+        if (q - p).length() > radius {
+            f(k);
+        }
+    }
+}
+
+/// The robots other than `i`, nearest first (ties by index): [`Sight::nearest_first`]
+/// by its definition, O(n log n).
+///
+/// ```
+/// use glam::DVec2;
+/// let pts = [DVec2::ZERO, DVec2::new(3.0, 0.0), DVec2::X];
+/// assert_eq!(monoculus_core::vision::nearest_first_brute(&pts, 0), [2, 1]);
+/// ```
+pub fn nearest_first_brute<P: Point>(positions: &[P], i: usize) -> Vec<usize> {
+    let p = positions[i];
+    let mut order = Vec::with_capacity(positions.len());
+    order.extend(
+        (positions.iter().enumerate())
+            .filter(|&(k, _)| k != i)
+            .map(|(k, &q)| ((q - p).length(), k)),
+    );
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    order.into_iter().map(|(_, k)| k).collect()
+}
+
 /// Merges seen robots into visible points: keeps `j` unless a seen robot with a
 /// smaller index lies within `eps_pos` of it. Input and output ascending.
 pub fn representatives<P: Point>(positions: &[P], seen: &[usize], v: &VisionParams) -> Vec<usize> {
@@ -154,24 +212,10 @@ impl<P: Point> Sight<P> for ExactSight<P> {
         sees_brute(&self.positions, i, j, &self.vision)
     }
     fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        let p = self.positions[i];
-        for (k, &q) in self.positions.iter().enumerate() {
-            if k != i && (q - p).length() <= radius {
-                f(k);
-            }
-        }
+        within_brute(&self.positions, i, radius, f);
     }
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
-        let p = self.positions[i];
-        let mut order: Vec<(f64, usize)> = self
-            .positions
-            .iter()
-            .enumerate()
-            .filter(|&(k, _)| k != i)
-            .map(|(k, &q)| ((q - p).length(), k))
-            .collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        Box::new(order.into_iter().map(|(_, k)| k))
+        Box::new(nearest_first_brute(&self.positions, i).into_iter())
     }
     fn visible_points(&self, i: usize) -> Vec<usize> {
         visible_points_brute(&self.positions, i, &self.vision)

@@ -60,12 +60,7 @@ pub trait Sight<P: Point>: Sync {
     /// Calls `f` with every robot farther than `radius` from robot `i`, in unspecified
     /// order.
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
-        let p = self.position(i);
-        for (k, &q) in self.positions().iter().enumerate() {
-            if (q - p).length() > radius {
-                f(k);
-            }
-        }
+        super::beyond_brute(self.positions(), i, radius, f);
     }
 
     /// Number of robots.

@@ -5,7 +5,10 @@
 use std::sync::OnceLock;
 
 use monoculus_core::metrics::bounds;
-use monoculus_core::vision::{Sight, VisionParams, blocks, distinct, in_range};
+use monoculus_core::vision::{
+    Sight, VisionParams, beyond_brute, blocks, distinct, in_range, nearest_first_brute,
+    within_brute,
+};
 
 use super::{IndexPoint, SpatialIndex, SpatialOrder};
 
@@ -166,13 +169,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
 
     fn for_each_within(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
         if self.few {
-            let p = self.positions[i];
-            for (k, &q) in self.positions.iter().enumerate() {
-                if k != i && (q - p).length() <= radius {
-                    f(k);
-                }
-            }
-            return;
+            return within_brute(&self.positions, i, radius, f);
         }
         self.index
             .for_each_within(self.positions.as_slice(), i, radius, f);
@@ -180,15 +177,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
 
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_> {
         if self.few {
-            let p = self.positions[i];
-            let mut order = Vec::with_capacity(self.positions.len());
-            order.extend(
-                (self.positions.iter().enumerate())
-                    .filter(|&(k, _)| k != i)
-                    .map(|(k, &q)| ((q - p).length(), k)),
-            );
-            order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            return Box::new(order.into_iter().map(|(_, k)| k));
+            return Box::new(nearest_first_brute(&self.positions, i).into_iter());
         }
         self.index.nearest_first(self.positions.as_slice(), i)
     }
@@ -207,13 +196,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
 
     fn for_each_beyond(&self, i: usize, radius: f64, f: &mut dyn FnMut(usize)) {
         if self.few {
-            let p = self.positions[i];
-            for (k, &q) in self.positions.iter().enumerate() {
-                if (q - p).length() > radius {
-                    f(k);
-                }
-            }
-            return;
+            return beyond_brute(&self.positions, i, radius, f);
         }
         self.index
             .for_each_beyond(self.positions.as_slice(), i, radius, f);
