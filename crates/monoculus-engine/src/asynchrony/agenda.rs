@@ -4,38 +4,63 @@ use std::collections::BTreeMap;
 
 /// The robots whose phase ends at each tick to come: the next ticks in a ring of slots,
 /// later ones in a map. A tick's robots come out in ascending order.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub(super) struct Agenda {
-    /// The robots of the pending phase ends at ticks `now..now + span`, those of
-    /// tick `t` in slot `t % span` (`span` = `near.len()`, a power of two): scheduling
-    /// one costs a push. The ring starts at [`NEAR`] slots when first needed and
-    /// doubles, up to [`FAR`], when a phase ends beyond it, so that it spans the
-    /// durations the run draws: a robot is scheduled three times a cycle, and a
-    /// map's search each time was 2% of a coarse run and 4-5% of one at 1000 times
-    /// the coarse durations.
-    near: Vec<Vec<u32>>,
-    /// A bit per slot of `near`, set where the slot holds robots: the next tick with
-    /// robots is found a word (64 ticks) at a time, however sparse the ticks.
+    /// The first entry of each slot's list: the robots of the pending phase ends at
+    /// ticks `now..now + span`, those of tick `t` in slot `t % span` (`span` =
+    /// `heads.len()`, a power of two), or [`NONE`]. Scheduling one costs a push. The
+    /// ring starts at [`NEAR`] slots when first needed and doubles, up to [`FAR`], when
+    /// a phase ends beyond it, so that it spans the durations the run draws: a robot is
+    /// scheduled three times a cycle, and a map's search each time was 2% of a coarse
+    /// run and 4-5% of one at 1000 times the coarse durations.
+    heads: Vec<u32>,
+    /// The slots' lists, linked through one pool: (robot, next entry of its slot or
+    /// [`NONE`]). At fine durations a slot holds a robot or two, and a list of its own
+    /// per slot cost a read of its header and of its buffer, each a miss in the
+    /// caches, at every robot scheduled and taken.
+    entries: Vec<(u32, u32)>,
+    /// The first free entry of the pool (the free ones linked as the lists are).
+    free: u32,
+    /// A bit per slot, set where the slot holds robots: the next tick with robots is
+    /// found a word (64 ticks) at a time, however sparse the ticks.
     occupied: Vec<u64>,
-    /// Robots listed in `near`.
+    /// Robots listed in the ring.
     in_near: usize,
     /// The robots of the pending phase ends further ahead than the ring, by tick (a
     /// calendar: taking a tick costs one map operation per tick, not a heap operation
     /// per robot). A tick's robots may be in both: those scheduled before the ring
     /// reached it.
     later: BTreeMap<u64, Vec<u32>>,
-    /// Emptied lists of `later` and `near`, reused.
+    /// Emptied lists of `later`, reused.
     spare: Vec<Vec<u32>>,
     /// A bit per robot, all clear between ticks: where a tick's robots are put in
     /// order (see [`ascending`]).
     marks: Vec<u64>,
 }
 
+/// No entry: the end of a list.
+const NONE: u32 = u32::MAX;
+
+impl Default for Agenda {
+    fn default() -> Self {
+        Agenda {
+            heads: Vec::new(),
+            entries: Vec::new(),
+            free: NONE,
+            occupied: Vec::new(),
+            in_near: 0,
+            later: BTreeMap::new(),
+            spare: Vec::new(),
+            marks: Vec::new(),
+        }
+    }
+}
+
 /// Ticks ahead of the current one whose phase ends the [`Agenda`] lists by slot, at
 /// first...
 const NEAR: u64 = 64;
-/// ...and at most (a ring of 2^14 slots holds 384 KiB of lists): phases that end
-/// further ahead wait in a map.
+/// ...and at most (a ring of 2^14 slots, 64 KiB of heads): phases that end further
+/// ahead wait in a map.
 const FAR: u64 = 1 << 14;
 
 /// The longest list of robots the [`Agenda`] keeps for reuse.
@@ -47,13 +72,22 @@ impl Agenda {
     pub fn schedule(&mut self, now: u64, tick: u64, robot: u32) {
         debug_assert!(tick >= now, "a phase ends at the current tick or later");
         let ahead = tick - now;
-        if ahead >= self.near.len() as u64 && ahead < FAR {
+        if ahead >= self.heads.len() as u64 && ahead < FAR {
             self.widen(now, ahead + 1);
         }
-        let span = self.near.len() as u64;
+        let span = self.heads.len() as u64;
         if ahead < span {
             let slot = (tick & (span - 1)) as usize;
-            self.near[slot].push(robot);
+            let entry = (robot, self.heads[slot]);
+            self.heads[slot] = if self.free == NONE {
+                self.entries.push(entry);
+                (self.entries.len() - 1) as u32
+            } else {
+                let e = self.free;
+                self.free = self.entries[e as usize].1;
+                self.entries[e as usize] = entry;
+                e
+            };
             self.occupied[slot / 64] |= 1 << (slot % 64);
             self.in_near += 1;
             return;
@@ -66,36 +100,35 @@ impl Agenda {
     }
 
     /// Makes the ring span at least `ticks` ticks ahead of the current one (a power of
-    /// two from [`NEAR`] to [`FAR`]), each listed robot moved to its tick's new slot.
+    /// two from [`NEAR`] to [`FAR`]), each slot's list moved to its tick's new slot.
     fn widen(&mut self, now: u64, ticks: u64) {
-        let old = self.near.len() as u64;
+        let old = self.heads.len() as u64;
         let span = ticks.next_power_of_two().clamp(NEAR, FAR).max(old);
         if span == old {
             return;
         }
-        let mut near: Vec<Vec<u32>> = Vec::with_capacity(span as usize);
-        near.resize_with(span as usize, Vec::new);
+        let mut heads = vec![NONE; span as usize];
         let mut occupied = vec![0u64; (span as usize).div_ceil(64)];
-        for (slot, list) in std::mem::take(&mut self.near).into_iter().enumerate() {
-            if list.is_empty() {
+        for (slot, &head) in self.heads.iter().enumerate() {
+            if head == NONE {
                 continue;
             }
             // The slot's tick: the one of `now..now + old` it stands for.
             let tick = now + (slot as u64).wrapping_sub(now) % old;
             let to = (tick & (span - 1)) as usize;
             occupied[to / 64] |= 1 << (to % 64);
-            near[to] = list;
+            heads[to] = head;
         }
-        self.near = near;
+        self.heads = heads;
         self.occupied = occupied;
     }
 
-    /// The first tick at or after the current one with robots in `near`.
+    /// The first tick at or after the current one with robots in the ring.
     fn next_near(&self, now: u64) -> Option<u64> {
         if self.in_near == 0 {
             return None;
         }
-        let span = self.near.len();
+        let span = self.heads.len();
         let start = (now as usize) & (span - 1);
         let words = self.occupied.len();
         // The words from the current slot's on, around the ring and back to it (its
@@ -122,35 +155,39 @@ impl Agenda {
         let near = self.next_near(now);
         let far = self.later.first_key_value().map(|(&t, _)| t);
         let tick = near.into_iter().chain(far).min()?;
+        due.clear();
         // The tick's robots in the ring's slot, in the map, or both (those scheduled
         // before it came near).
-        let near = (near == Some(tick)).then(|| {
-            let fresh = self.spare.pop().unwrap_or_default();
-            let slot = (tick as usize) & (self.near.len() - 1);
-            let due = std::mem::replace(&mut self.near[slot], fresh);
+        if far == Some(tick) {
+            let list = self.later.pop_first().expect("the first tick").1;
+            due.extend_from_slice(&list);
+            self.recycle(list);
+        }
+        if near == Some(tick) {
+            let slot = (tick as usize) & (self.heads.len() - 1);
+            let head = std::mem::replace(&mut self.heads[slot], NONE);
             self.occupied[slot / 64] &= !(1 << (slot % 64));
-            self.in_near -= due.len();
-            due
-        });
-        let far = (far == Some(tick)).then(|| self.later.pop_first().expect("the first tick").1);
-        let mut list = match (near, far) {
-            (Some(mut due), Some(far)) => {
-                due.extend_from_slice(&far);
-                self.recycle(far);
-                due
+            // The list's robots, its entries handed back to the free ones.
+            let mut e = head;
+            loop {
+                let (robot, next) = self.entries[e as usize];
+                due.push(robot);
+                self.in_near -= 1;
+                if next == NONE {
+                    self.entries[e as usize].1 = self.free;
+                    break;
+                }
+                e = next;
             }
-            (Some(due), None) | (None, Some(due)) => due,
-            (None, None) => unreachable!("the tick is the first of near and far"),
-        };
-        ascending(&mut list, &mut self.marks, n);
-        std::mem::swap(due, &mut list);
-        self.recycle(list);
+            self.free = head;
+        }
+        ascending(due, &mut self.marks, n);
         Some(tick)
     }
 
-    /// Keeps an emptied list for reuse, but not the long ones of a crowded tick (a
-    /// random start puts a tenth of the swarm on each of the first ticks): kept, they
-    /// would hold several times the swarm's worth of room.
+    /// Keeps an emptied list of the map for reuse, but not the long ones of a crowded
+    /// tick (a random start puts a tenth of the swarm on each of the first ticks):
+    /// kept, they would hold several times the swarm's worth of room.
     fn recycle(&mut self, mut list: Vec<u32>) {
         if list.capacity() <= SPARE_CAPACITY {
             list.clear();
@@ -248,7 +285,7 @@ mod tests {
         agenda.schedule(71, 71 + 60, 2);
         agenda.schedule(71, 71 + 5000, 3);
         agenda.schedule(71, 71 + 3, 4);
-        assert_eq!(agenda.near.len(), 8192);
+        assert_eq!(agenda.heads.len(), 8192);
         let mut now = 71;
         for (tick, robot) in [(74, 4), (131, 2), (5071, 3)] {
             assert_eq!(agenda.take_next(now, 8, &mut due), Some(tick));

@@ -142,6 +142,9 @@ pub struct AsyncClock {
     pub last_epoch: (u64, u64),
     /// Whether a Look at the current tick decided a move.
     pub move_decided: bool,
+    /// What the Looks cost so far, to share a tick's Looks between threads only where
+    /// that pays.
+    pub(crate) look_cost: super::parallel::LookCost,
 }
 
 impl AsyncClock {

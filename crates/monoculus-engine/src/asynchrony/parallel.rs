@@ -7,6 +7,52 @@ use rayon::prelude::*;
 /// Events in a tick from which its work is worth sharing between threads.
 pub(super) const MANY_EVENTS: usize = 256;
 
+/// What a tick's Looks cost (seconds a Look, a running mean of the ticks so far), to
+/// share them between threads only where that pays: handing work to a sleeping thread
+/// costs several microseconds, and a thread kept busy spinning between a tick's short
+/// parallel sections takes the core's other half from this one. At a thousand times
+/// the coarse durations a tick has two or three Looks of a few microseconds each: run
+/// on one thread (measured in docs/performance.md). The choice changes which thread
+/// decides, never a decision.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LookCost {
+    /// Seconds of one thread a Look took, on average; 0 until a tick was timed.
+    per_look: f64,
+}
+
+/// The Looks' work (on one thread) from which a tick shares them between threads.
+const SHARED_WORK: f64 = 30e-6;
+/// Looks from which a tick shares them, before any was timed.
+const SHARED_LOOKS: usize = 8;
+/// The weight of the last tick in [`LookCost`]'s running mean.
+const WEIGHT: f64 = 1.0 / 16.0;
+
+impl LookCost {
+    /// Whether `looks` Looks are worth sharing between the `threads` threads.
+    pub(crate) fn share(&self, looks: usize, threads: usize) -> bool {
+        if threads < 2 || looks < 2 {
+            return false;
+        }
+        if self.per_look == 0.0 {
+            return looks >= SHARED_LOOKS;
+        }
+        looks as f64 * self.per_look >= SHARED_WORK
+    }
+
+    /// `looks` Looks took `seconds`, shared between `threads` threads or not.
+    pub(crate) fn record(&mut self, looks: usize, seconds: f64, threads: usize) {
+        if looks == 0 {
+            return;
+        }
+        let per_look = seconds * threads as f64 / looks as f64;
+        self.per_look = if self.per_look == 0.0 {
+            per_look
+        } else {
+            self.per_look + WEIGHT * (per_look - self.per_look)
+        };
+    }
+}
+
 /// `f` of each robot of `robots`, in their order: on all threads where they are
 /// [`MANY_EVENTS`] or more (each reads a robot's clock and position, misses in the
 /// caches), else on this one.
@@ -99,6 +145,26 @@ mod tests {
     use super::*;
     use crate::asynchrony::{Phase, Timing};
     use glam::DVec2;
+
+    /// A tick's Looks are shared between threads where their work pays for it: never
+    /// on one thread or for one Look, from [`SHARED_LOOKS`] before any was timed, then
+    /// where the Looks' work on one thread (a shared tick's time counted on every
+    /// thread) reaches [`SHARED_WORK`].
+    #[test]
+    fn looks_are_shared_where_their_work_pays_for_it() {
+        let mut cost = LookCost::default();
+        assert!(!cost.share(1000, 1) && !cost.share(1, 2));
+        assert!(!cost.share(SHARED_LOOKS - 1, 2) && cost.share(SHARED_LOOKS, 2));
+        // Looks of 5 us: six are worth sharing, five are not.
+        cost.record(4, 20e-6, 1);
+        assert!(cost.share(6, 2) && !cost.share(5, 2));
+        // Ticks of cheaper Looks (1 us, shared between two threads: 0.5 us a tick
+        // each) bring the mean down: then many more are needed.
+        for _ in 0..200 {
+            cost.record(10, 5e-6, 2);
+        }
+        assert!(!cost.share(6, 2) && !cost.share(29, 2) && cost.share(31, 2));
+    }
 
     /// A robot's clock, different for each robot.
     fn clock(r: u32) -> Timing<DVec2> {

@@ -237,11 +237,10 @@ pub(crate) fn positions_now<P: IndexPoint>(
     pts
 }
 
-/// The lookers' decisions, shared between threads from two Looks on (the Looks of a
-/// tick differ in cost, so that they are split as finely as rayon will; from four or
-/// eight on, runs at 1000 times the coarse durations gained what runs at 100 times lost:
-/// docs/performance-history.md); a robot crashed by `epoch` (SPEC 9.1: at its first
-/// Look at or after its crash epoch) stays, its memory as it was.
+/// The lookers' decisions, shared between threads if `shared` (the Looks of a tick
+/// differ in cost, so that they are split as finely as rayon will; whether they are
+/// shared is [`LookCost::share`](super::parallel::LookCost::share)'s choice); a robot crashed by `epoch` (SPEC 9.1: at
+/// its first Look at or after its crash epoch) stays, its memory as it was.
 type Decided<P, A> = (Option<P>, Option<KeptBy<P, A>>);
 
 /// A looker: its index, its cycle and what it keeps.
@@ -250,7 +249,7 @@ type Looker<P, A> = (u32, u64, Option<KeptBy<P, A>>);
 fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     (params, algorithm): (&Params, &A),
     view: (&S, &[u8]),
-    epoch: u64,
+    (epoch, shared): (u64, bool),
     inputs: &[Looker<P, A>],
 ) -> Vec<Decided<P, A>> {
     let crashed = |r: u32| {
@@ -280,19 +279,21 @@ fn decide_all<P: IndexPoint, S: Sight<P>, A: Algorithm>(
             })
             .collect();
     }
-    inputs
-        .par_iter()
-        .map(|(r, cycle, memory)| {
-            let (r, cycle) = (*r, *cycle);
-            let mut memory = memory.clone();
-            if crashed(r) {
-                return (None, memory);
-            }
-            let d = decide_one(params, algorithm, view, r as usize, cycle, memory.as_mut())
-                .map(|d| realise(params, r as usize, cycle, d));
-            (d, memory)
-        })
-        .collect()
+    let decide = |(r, cycle, memory): &Looker<P, A>| {
+        let (r, cycle) = (*r, *cycle);
+        let mut memory = memory.clone();
+        if crashed(r) {
+            return (None, memory);
+        }
+        let d = decide_one(params, algorithm, view, r as usize, cycle, memory.as_mut())
+            .map(|d| realise(params, r as usize, cycle, d));
+        (d, memory)
+    };
+    if shared {
+        inputs.par_iter().map(decide).collect()
+    } else {
+        inputs.iter().map(decide).collect()
+    }
 }
 
 /// The largest swarm whose kept shape is refreshed while the Looks' index is readied.
@@ -353,22 +354,26 @@ pub fn look<P: IndexPoint, A: Algorithm>(
     );
     let rule = (&*params, &*algorithm.0);
     let shown = &lights.shown[..];
+    // Shared between threads where the Looks' work pays for it (timed with the
+    // making of the sight, which the tick's Looks pay for too).
+    let threads = rayon::current_num_threads();
+    let shared = clock.look_cost.share(lookers.len(), threads);
+    let when = (clock.epochs, shared);
+    let started = std::time::Instant::now();
     let outputs = match sight.at(&params, t, pos, &kept_shape) {
-        Looking::Made(s) => decide_all(rule, (&s, shown), clock.epochs, &inputs),
-        Looking::Moving(s) => decide_all(rule, (&s, shown), clock.epochs, &inputs),
+        Looking::Made(s) => decide_all(rule, (&s, shown), when, &inputs),
+        Looking::Moving(s) => decide_all(rule, (&s, shown), when, &inputs),
         Looking::Snapshot(SnapshotSight::Index(s)) => {
             // Built here (if it must be), its two layouts in parallel, not by the first
             // decision while the other threads wait.
             s.build_index();
-            decide_all(rule, (s, shown), clock.epochs, &inputs)
+            decide_all(rule, (s, shown), when, &inputs)
         }
-        Looking::Snapshot(SnapshotSight::Exact(s)) => {
-            decide_all(rule, (s, shown), clock.epochs, &inputs)
-        }
-        Looking::Snapshot(SnapshotSight::Rtree(s)) => {
-            decide_all(rule, (s, shown), clock.epochs, &inputs)
-        }
+        Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(rule, (s, shown), when, &inputs),
+        Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(rule, (s, shown), when, &inputs),
     };
+    let seconds = started.elapsed().as_secs_f64();
+    (clock.look_cost).record(lookers.len(), seconds, if shared { threads } else { 1 });
     // The colours the decisions set, shown when their Computes end.
     if !lights.set.is_empty() {
         for (&r, (_, memory)) in lookers.iter().zip(&outputs) {
