@@ -209,6 +209,11 @@ impl AsyncClock {
         self.due.iter().zip(phases).for_each(|(&r, p)| place(r, p));
     }
 
+    /// Whether some robot's `phase` ends at the current tick.
+    pub(crate) fn ends(&self, phase: Phase) -> bool {
+        !self.ending[phase as usize].is_empty()
+    }
+
     /// The robots whose `phase` ends at the current tick, ascending (taken out of
     /// the clock; give them back with [`AsyncClock::restore_ending`]).
     pub fn take_ending(&mut self, phase: Phase) -> Vec<u32> {

@@ -25,3 +25,4 @@ pub use sight::{Located, LookSight, Looking, TickSight};
 pub use spec::{AsyncSpec, AsyncStart, MAX_PHASE_TICKS, TickDist};
 pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};
 pub(crate) use systems::{COMPUTE, IDLE, MOVE, START, duration, positions_now};
+pub(crate) use systems::{phase_ends, to_account};

@@ -76,6 +76,19 @@ fn spec(params: &Params) -> &AsyncSpec {
     }
 }
 
+/// A run condition: whether some robot's `phase` ends at this tick. At fine durations a
+/// tick has an event or two, and a phase's system run for none still fetched every
+/// resource it names.
+pub(crate) fn phase_ends(phase: Phase) -> impl Fn(Res<AsyncClock>) -> bool + Clone {
+    move |clock: Res<AsyncClock>| clock.ends(phase)
+}
+
+/// A run condition: whether this tick has anything to account for (a cycle completed,
+/// a move ended or decided); [`account`] changes nothing otherwise.
+pub(crate) fn to_account(clock: Res<AsyncClock>) -> bool {
+    !clock.completed.is_empty() || clock.move_ended || clock.move_decided
+}
+
 /// Advance: the next tick with phase ends, its robots sorted by the phase that ends.
 pub fn advance<P: IndexPoint>(mut clock: ResMut<AsyncClock>, clocks: Res<Clocks<P>>) {
     if !clock.advance() {

@@ -61,12 +61,22 @@ pub(super) fn wire_async<P: IndexPoint, A: Algorithm>(schedule: &mut Schedule) {
         )
             .chain(),
     );
+    // Each phase's system runs at the ticks where that phase ends, Account where there
+    // is something to account for: the systems change nothing otherwise.
     schedule.add_systems((
         asynchrony::advance::<P>.in_set(AsyncSet::Advance),
-        asynchrony::finish_moves::<P>.in_set(AsyncSet::FinishMoves),
-        asynchrony::finish_computes::<P>.in_set(AsyncSet::FinishComputes),
-        asynchrony::look::<P, A>.in_set(AsyncSet::Look),
-        asynchrony::account::<P>.in_set(AsyncSet::Account),
+        asynchrony::finish_moves::<P>
+            .in_set(AsyncSet::FinishMoves)
+            .run_if(asynchrony::phase_ends(Phase::Move)),
+        asynchrony::finish_computes::<P>
+            .in_set(AsyncSet::FinishComputes)
+            .run_if(asynchrony::phase_ends(Phase::Compute)),
+        asynchrony::look::<P, A>
+            .in_set(AsyncSet::Look)
+            .run_if(asynchrony::phase_ends(Phase::Idle)),
+        asynchrony::account::<P>
+            .in_set(AsyncSet::Account)
+            .run_if(asynchrony::to_account),
     ));
 }
 
