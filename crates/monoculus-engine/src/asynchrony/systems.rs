@@ -252,8 +252,9 @@ pub(crate) fn positions_now<P: IndexPoint>(
 
 /// The lookers' decisions, shared between threads if `shared` (the Looks of a tick
 /// differ in cost, so that they are split as finely as rayon will; whether they are
-/// shared is [`LookCost::share`](super::parallel::LookCost::share)'s choice); a robot crashed by `epoch` (SPEC 9.1: at
-/// its first Look at or after its crash epoch) stays, its memory as it was.
+/// shared is [`LookCost::share`](super::parallel::LookCost::share)'s choice); a robot
+/// crashed by `epoch` (SPEC 9.1: at its first Look at or after its crash epoch) stays,
+/// its memory as it was.
 type Decided<P, A> = (Option<P>, Option<KeptBy<P, A>>);
 
 /// A looker: its index, its cycle and what it keeps.
@@ -386,7 +387,8 @@ pub fn look<P: IndexPoint, A: Algorithm>(
         Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(rule, (s, shown), when, &inputs),
     };
     let seconds = started.elapsed().as_secs_f64();
-    (clock.look_cost).record(lookers.len(), seconds, if shared { threads } else { 1 });
+    let timed_on = if shared { threads } else { 1 };
+    clock.look_cost.record(lookers.len(), seconds, timed_on);
     // The colours the decisions set, shown when their Computes end.
     if !lights.set.is_empty() {
         for (&r, (_, memory)) in lookers.iter().zip(&outputs) {
