@@ -333,6 +333,71 @@ fn the_moving_index_agrees_with_the_exact_backend_at_every_time_resolution() {
     }
 }
 
+/// Looks decided ahead of their ticks: where every Compute lasts at least a few ticks,
+/// the Looks of the ticks after one with Looks are decided with them, each against the
+/// sight of its own tick. The runs are those of the brute-force sight, which decides
+/// every Look at its tick: for algorithms that ask for the swarm's hull (the farthest
+/// robot), its box, every position or a memory, from random, lattice and collinear
+/// starts, and Looks are decided ahead where the index is kept (not for the algorithm
+/// with a memory, whose Looks are decided at their ticks).
+#[test]
+fn looks_decided_ahead_are_those_of_their_ticks() {
+    use monoculus_core::init::{InitShape, generate};
+    let timing = |scale: u64| AsyncSpec {
+        idle: TickDist::Uniform {
+            min: scale / 4,
+            max: 2 * scale,
+        },
+        compute: TickDist::Uniform {
+            min: scale / 4,
+            max: scale,
+        },
+        motion: TickDist::Exponential {
+            mean: 0.8 * scale as f64,
+        },
+        start: AsyncStart::Random,
+        durations: None,
+    };
+    let starts = [
+        ("random", common::square(150, 12.0, 7)),
+        ("dense", common::square(120, 3.0, 7)),
+        (
+            "lattice",
+            generate(&InitShape::Lattice { side: 10.0 }, 144, 7),
+        ),
+        ("line", generate(&InitShape::Line { side: 12.0 }, 60, 7)),
+    ];
+    let mut ahead = 0;
+    for scale in [40, 400] {
+        for kind in [
+            AlgorithmKind::ConvergeLocality,
+            AlgorithmKind::ConvergeQuadrant,
+            AlgorithmKind::CenterOfGravity,
+            AlgorithmKind::ConvergeQuadrantTermination,
+        ] {
+            for (name, start) in &starts {
+                let cfg = common::config(kind, SchedulerSpec::Fsync, 7);
+                let mut cfg = with_async(cfg, timing(scale));
+                cfg.stop.max_rounds = 8;
+                let mut sim = Simulation::new(cfg.clone(), start.clone()).unwrap();
+                let a = sim.run();
+                let decided = sim
+                    .world()
+                    .resource::<monoculus_engine::asynchrony::AsyncClock>()
+                    .looks_ahead;
+                if kind == AlgorithmKind::ConvergeQuadrantTermination {
+                    assert_eq!(decided, 0, "{name}: a memory is read at the Look's tick");
+                }
+                ahead += decided;
+                cfg.backend = SightBackend::Exact;
+                let b = Simulation::new(cfg, start.clone()).unwrap().run();
+                assert_eq!(a, b, "{} from {name}, durations x{scale}", kind.name());
+            }
+        }
+    }
+    assert!(ahead > 10_000, "{ahead} Looks decided ahead");
+}
+
 /// The world's resources are entities that come before the robots: a resource spawned
 /// after them carries a sparse index over every robot (4 MB each at 10^6 robots, 24 MB
 /// of an ASYNC run's peak once). Under both kinds of scheduler, and after the first

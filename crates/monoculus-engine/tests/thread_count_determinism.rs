@@ -100,3 +100,17 @@ fn async_results_at_fine_durations_do_not_depend_on_thread_count() {
     };
     async_is_the_same_on_any_thread_count(spec, 600, 2);
 }
+
+#[test]
+fn async_looks_decided_ahead_do_not_depend_on_thread_count() {
+    // Computes of at least 100 ticks: the Looks of the ticks to come are decided with
+    // a tick's own, hundreds at once, shared between threads. Three epochs.
+    let spec = AsyncSpec {
+        idle: TickDist::Uniform { min: 100, max: 1000 },
+        compute: TickDist::Uniform { min: 100, max: 500 },
+        motion: TickDist::Exponential { mean: 400.0 },
+        start: AsyncStart::Random,
+        durations: None,
+    };
+    async_is_the_same_on_any_thread_count(spec, 2000, 3);
+}

@@ -185,6 +185,28 @@ impl Agenda {
         Some(tick)
     }
 
+    /// Calls `f(tick, robot)` for each phase end scheduled after the current tick `now`
+    /// and at or before `last`, in no particular order; nothing is taken.
+    pub fn peek(&self, now: u64, last: u64, mut f: impl FnMut(u64, u32)) {
+        let span = self.heads.len() as u64;
+        if self.in_near > 0 {
+            for tick in now + 1..=last.min(now + span - 1) {
+                let slot = (tick & (span - 1)) as usize;
+                let mut e = self.heads[slot];
+                while e != NONE {
+                    let (robot, next) = self.entries[e as usize];
+                    f(tick, robot);
+                    e = next;
+                }
+            }
+        }
+        if last > now {
+            for (&tick, robots) in self.later.range(now + 1..=last) {
+                robots.iter().for_each(|&r| f(tick, r));
+            }
+        }
+    }
+
     /// Keeps an emptied list of the map for reuse, but not the long ones of a crowded
     /// tick (a random start puts a tenth of the swarm on each of the first ticks):
     /// kept, they would hold several times the swarm's worth of room.
@@ -296,7 +318,8 @@ mod tests {
     }
 
     /// The agenda, near ticks by slot and far ones in a map, against a plain map of
-    /// sorted lists: the same ticks with the same robots, over random schedules of
+    /// sorted lists: the same ticks with the same robots, and the same robots seen
+    /// ahead of their ticks ([`AsyncClock::peek`]), over random schedules of
     /// the current tick, near ones, the first ring's edge (63, 64 and 65 ahead), ticks
     /// that widen the ring, the widest ring's edge and beyond it, many robots a tick
     /// and few, some robots listed twice.
@@ -327,6 +350,20 @@ mod tests {
                 let robot = stream.below(n as usize) as u32;
                 clock.schedule(now + ahead, robot);
                 reference.entry(now + ahead).or_default().push(robot);
+            }
+            // What is scheduled after the current tick up to a tick near, at the ring's
+            // edge or beyond it, without taking it.
+            if step % 7 == 0 {
+                let last = clock.tick + 1 + stream.below(3 * super::FAR as usize) as u64;
+                let mut peeked = Vec::new();
+                clock.peek(last, |t, r| peeked.push((t, r)));
+                peeked.sort_unstable();
+                let mut listed: Vec<(u64, u32)> = reference
+                    .range(clock.tick + 1..=last)
+                    .flat_map(|(&t, robots)| robots.iter().map(move |&r| (t, r)))
+                    .collect();
+                listed.sort_unstable();
+                assert_eq!(peeked, listed, "step {step}: peeked up to {last}");
             }
             for _ in 0..1 + stream.below(3) {
                 let expected = reference.pop_first().map(|(t, mut robots)| {

@@ -142,6 +142,10 @@ pub struct AsyncClock {
     pub last_epoch: (u64, u64),
     /// Whether a Look at the current tick decided a move.
     pub move_decided: bool,
+    /// Looks decided so far ahead of their ticks, with the Looks of an earlier tick
+    /// (their decisions are those of their own ticks; a diagnostic of the work's
+    /// sharing, see docs/architecture.md).
+    pub looks_ahead: u64,
     /// What the Looks cost so far, to share a tick's Looks between threads only where
     /// that pays.
     pub(crate) look_cost: super::parallel::LookCost,
@@ -160,6 +164,12 @@ impl AsyncClock {
     /// Schedules robot `robot`'s next phase end, at `tick` (the current tick or later).
     pub fn schedule(&mut self, tick: u64, robot: u32) {
         self.agenda.schedule(self.tick, tick, robot);
+    }
+
+    /// Calls `f(tick, robot)` for each phase end scheduled after the current tick and
+    /// at or before `last`, in no particular order (they stay scheduled).
+    pub(crate) fn peek(&self, last: u64, f: impl FnMut(u64, u32)) {
+        self.agenda.peek(self.tick, last, f);
     }
 
     /// Moves to the next tick with phase ends; `false` if nothing is scheduled.

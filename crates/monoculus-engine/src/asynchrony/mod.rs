@@ -5,6 +5,7 @@
 //! completes at least one full cycle.
 
 mod agenda;
+mod ahead;
 mod boxes;
 mod committed;
 mod components;
@@ -20,7 +21,7 @@ mod systems;
 pub use committed::CommittedHull;
 pub use components::{AsyncClock, Clocks, Lights, Phase, RobotEntities, Timing};
 pub use durations::{Durations, DurationsError, GivenDuration, phase_name};
-pub use shape::KeptShape;
+pub use shape::{AheadShape, KeptShape};
 pub use sight::{Located, LookSight, Looking, TickSight};
 pub use spec::{AsyncSpec, AsyncStart, MAX_PHASE_TICKS, TickDist};
 pub use systems::{AsyncSet, account, advance, finish_computes, finish_moves, look};

@@ -215,6 +215,79 @@ impl<P: IndexPoint> KeptShape<P> {
     }
 }
 
+/// What the farthest robot from a point is taken from at the ticks after a
+/// [refreshed](KeptShape::refresh) shape's, for Looks decided ahead
+/// ([`KeptShape::ahead`]): the vertices of the hull at rest, each with the tick from
+/// which it may no longer be a robot's (a robot at rest there leaves), and the segments
+/// that may leave that hull.
+#[derive(Clone, Debug, Default)]
+pub struct AheadShape<P> {
+    /// A vertex of the hull at rest, and the tick at which a robot at rest there starts
+    /// a move, so that it is elsewhere at every later tick (`u64::MAX`: none does).
+    vertices: Vec<(P, u64)>,
+    /// Segments that may leave the hull at rest: from, to, the ticks of the move.
+    movers: Vec<(P, P, u64, u64)>,
+}
+
+impl<P: IndexPoint> AheadShape<P> {
+    /// The distance from `p` to the farthest robot at `tick`, if these points tell it:
+    /// `None` where the farthest of them is a vertex whose robot has left by then.
+    pub fn farthest(&self, p: P, tick: u64) -> Option<f64> {
+        if self.vertices.is_empty() {
+            return None;
+        }
+        let (mut real, mut left) = (0.0f64, 0.0f64);
+        for &(v, leaves) in &self.vertices {
+            let d = (v - p).length();
+            if leaves < tick {
+                left = left.max(d);
+            } else {
+                real = real.max(d);
+            }
+        }
+        for &(from, to, since, until) in &self.movers {
+            let at = if tick <= since {
+                from
+            } else if tick >= until {
+                to
+            } else {
+                super::components::interpolate(from, to, since, until, tick)
+            };
+            real = real.max((at - p).length());
+        }
+        (left <= real).then_some(real)
+    }
+}
+
+impl<P: IndexPoint> KeptShape<P> {
+    /// The points the farthest robot from any point is found among at the ticks after
+    /// the one this shape was [refreshed](KeptShape::refresh) at (in the plane), where
+    /// `departing` (robot at rest, from, its move's clock) start their moves in
+    /// between: the vertices at rest, the movers that may leave their hull, and those
+    /// of `departing` whose segment is not certainly strictly inside it. Any other robot
+    /// lies strictly inside the hull at rest, nearer than one of its vertices.
+    pub fn ahead(&self, departing: impl Iterator<Item = (P, Timing<P>)>) -> AheadShape<P> {
+        let mut vertices: Vec<(P, u64)> = self.rest.hull().iter().map(|&v| (v, u64::MAX)).collect();
+        let mut movers: Vec<(P, P, u64, u64)> = self
+            .outside
+            .iter()
+            .map(|&(_, (from, t))| (from, t.target(from), t.since, t.until))
+            .collect();
+        for (from, t) in departing {
+            for (v, leaves) in vertices.iter_mut() {
+                if *v == from {
+                    *leaves = (*leaves).min(t.since);
+                }
+            }
+            let to = t.target(from);
+            if !Self::certainly_inside(from, to, self.rest.hull_boxes(), |q| self.rest.in_hull(q)) {
+                movers.push((from, to, t.since, t.until));
+            }
+        }
+        AheadShape { vertices, movers }
+    }
+}
+
 /// A disc inside the convex polygon `hull` (counter-clockwise, at least three
 /// vertices; else an empty disc): around the mean of the vertices, with the smallest
 /// distance from it to an edge's line, shrunk by a millionth for rounding.
@@ -260,6 +333,98 @@ mod tests {
     use super::KeptShape;
     use crate::asynchrony::boxes::{in_boxes, inner_boxes};
     use crate::asynchrony::kept_hull::tests::polygons;
+    use crate::asynchrony::{Phase, Timing};
+
+    /// For Looks decided ahead: the farthest robot found from the hull at rest, the
+    /// movers that may leave it and the robots that start moving after the shape's tick
+    /// is, where told, the farthest of all robots at each later tick, to the bit; it is
+    /// not told exactly where the farthest of those points is a vertex whose robot left
+    /// (robots leave from hull vertices too, some outward).
+    #[test]
+    fn the_farthest_robot_ahead_is_the_farthest_of_all() {
+        let mut rng = Stream::new(16, 0, 0, 0);
+        let (mut told, mut untold) = (0, 0);
+        for trial in 0..40 {
+            let n = 20 + 10 * (trial % 5);
+            let now = 100;
+            let mut robots: Vec<(u32, DVec2, Timing<DVec2>)> = (0..n as u32)
+                .map(|r| {
+                    let from = DVec2::new(rng.uniform_in(-5.0, 5.0), rng.uniform_in(-5.0, 5.0));
+                    let d = DVec2::new(rng.uniform_in(-3.0, 3.0), rng.uniform_in(-3.0, 3.0));
+                    let timing = if rng.below(3) == 0 {
+                        let since = now - rng.below(20) as u64;
+                        Timing::new(
+                            Phase::Move,
+                            since,
+                            now + 1 + rng.below(30) as u64,
+                            1,
+                            0,
+                            Some(d),
+                        )
+                    } else {
+                        Timing::new(Phase::Idle, 0, now + 50, 0, 0, None)
+                    };
+                    (r, from, timing)
+                })
+                .collect();
+            let mut shape = KeptShape::<DVec2>::new();
+            shape.refresh(|| robots.clone().into_iter());
+            // Robots at rest that start moving after `now`: hull vertices first.
+            let hull = shape.rest.hull().to_vec();
+            let mut departing = Vec::new();
+            for (_, from, timing) in robots.iter_mut() {
+                let vertex = hull.contains(from);
+                if timing.phase == Phase::Idle && (vertex || rng.below(4) == 0) && rng.below(2) == 0
+                {
+                    let d = DVec2::new(rng.uniform_in(-3.0, 3.0), rng.uniform_in(-3.0, 3.0));
+                    let since = now + 1 + rng.below(20) as u64;
+                    *timing = Timing::new(
+                        Phase::Move,
+                        since,
+                        since + 1 + rng.below(30) as u64,
+                        1,
+                        0,
+                        Some(d),
+                    );
+                    departing.push((*from, *timing));
+                }
+            }
+            let ahead = shape.ahead(departing.iter().copied());
+            for tick in now + 1..now + 60 {
+                let at: Vec<DVec2> = robots
+                    .iter()
+                    .map(|&(_, from, t)| match t.phase {
+                        Phase::Move if tick >= t.until => t.target(from),
+                        Phase::Move if tick > t.since => t.position_at(from, tick),
+                        _ => from,
+                    })
+                    .collect();
+                for k in 0..8 {
+                    let p = if k < 4 {
+                        at[rng.below(n)]
+                    } else {
+                        DVec2::new(rng.uniform_in(-9.0, 9.0), rng.uniform_in(-9.0, 9.0))
+                    };
+                    let all = at.iter().map(|&q| (q - p).length()).fold(0.0, f64::max);
+                    match ahead.farthest(p, tick) {
+                        Some(far) => {
+                            assert_eq!(
+                                far.to_bits(),
+                                all.to_bits(),
+                                "trial {trial} tick {tick} from {p}"
+                            );
+                            told += 1;
+                        }
+                        None => untold += 1,
+                    }
+                }
+            }
+        }
+        assert!(
+            told > 20 * untold && untold > 0,
+            "told {told}, not told {untold}"
+        );
+    }
 
     /// A segment held by one of the boxes inside a polygon is certainly inside it
     /// exactly when every point tested alone is, and every point tested lies in the

@@ -1,7 +1,9 @@
 //! [`LookSight`]: what ASYNC Looks see, kept from one tick to the next, and
 //! [`TickSight`], the sight of one tick's Looks.
 
+use std::collections::VecDeque;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy_ecs::prelude::*;
 use monoculus_core::metrics::bounds;
@@ -10,7 +12,7 @@ use rayon::prelude::*;
 
 use super::components::interpolate;
 use super::roster::Roster;
-use super::{KeptShape, Timing};
+use super::{AheadShape, KeptShape, Timing};
 use crate::IndexPoint;
 use crate::index::{Locate, SpatialIndex, prefetch};
 use crate::resources::{Params, SightBackend, SnapshotSight};
@@ -41,6 +43,11 @@ pub struct LookSight<P: IndexPoint> {
     snapshot: Option<SnapshotSight<P>>,
     /// Looks since the moving index was made.
     looks: usize,
+    /// Decisions taken ahead of their Looks' ticks ([`LookSight::ahead_at`]): (tick,
+    /// robot, displacement), in tick order, robots ascending within a tick.
+    ahead: VecDeque<(u64, u32, Option<P>)>,
+    /// The last tick whose Looks were decided ahead, if any.
+    ahead_until: Option<u64>,
 }
 
 /// A robot in mid-move, as [`Timing::position_at`] reads it (where it started is its
@@ -53,9 +60,18 @@ struct Mover<P> {
 }
 
 impl<P: IndexPoint> Mover<P> {
+    /// Where the robot is at `tick`: at `from` until its move starts (a move decided
+    /// ahead, see [`LookSight::depart`]), at `to` itself once it has ended (as its
+    /// arrival will settle it), on its segment between.
     #[inline]
     fn at(&self, from: P, tick: u64) -> P {
-        interpolate(from, self.to, self.since, self.until, tick)
+        if tick <= self.since {
+            from
+        } else if tick >= self.until {
+            self.to
+        } else {
+            interpolate(from, self.to, self.since, self.until, tick)
+        }
     }
 
     /// A disc the robot, leaving `from`, stays in at every tick from `first` (at or
@@ -123,10 +139,89 @@ impl<P: IndexPoint> LookSight<P> {
             moving: None,
             snapshot: None,
             looks: 0,
+            ahead: VecDeque::new(),
+            ahead_until: None,
         }
     }
 
-    /// Robot `robot` starts a move from `from` (its clock says where to and when).
+    /// The last tick up to which the Looks after `tick` may be decided now, at `tick`:
+    /// none of them sees a decision taken at `tick` or later, since a Compute lasts at
+    /// least `lead` ticks, and the moving index, [readied](LookSight::ready) at `tick`,
+    /// serves them all. `None` where no tick after `tick` qualifies, where the Looks
+    /// after `tick` were decided already, or where no moving index is kept.
+    pub(crate) fn ahead_window(&self, params: &Params, tick: u64, lead: u64) -> Option<u64> {
+        if !Self::moves(params) || self.ahead_until.is_some_and(|u| tick <= u) {
+            return None;
+        }
+        let m = self.moving.as_ref().filter(|m| m.made <= tick)?;
+        let last = m.last.min(tick.saturating_add(lead.saturating_sub(1)));
+        (last > tick).then_some(last)
+    }
+
+    /// The sight at `tick`, after the current one and at most the last of its
+    /// [window](LookSight::ahead_window), for a Look decided ahead: robots at rest at
+    /// their points in `settled` (the current tick's), movers on their segments (those
+    /// that arrive before `tick` at their targets, those whose Compute ends by then
+    /// [departed](LookSight::depart) ahead). The swarm's hull and box, which `shape`
+    /// gives for the current tick only, set `outlined`: a decision that asked for them
+    /// is taken again at its own tick; but for the farthest robot where `ahead` tells
+    /// it.
+    pub(crate) fn ahead_at<'a>(
+        &'a self,
+        params: &Params,
+        tick: u64,
+        (settled, shape, ahead): (&'a [P], &'a KeptShape<P>, &'a AheadShape<P>),
+        outlined: &'a AtomicBool,
+    ) -> TickSight<'a, P, Located<'a, P>> {
+        let m = self.moving.as_ref().expect("a window has a moving index");
+        debug_assert!(m.made < tick && tick <= m.last);
+        let at = Located {
+            settled,
+            movers: &self.movers,
+            tick,
+        };
+        let mut sight = TickSight::new(at, settled.len(), &m.index, params.vision);
+        sight.outlined = Some(outlined);
+        sight.ahead = Some((ahead, tick));
+        sight.with_shape(shape, tick)
+    }
+
+    /// Keeps the decisions taken ahead for the Looks up to tick `until` (`decided`:
+    /// (tick, robot, displacement) in tick order, robots ascending within a tick; the
+    /// Looks not listed are decided at their ticks), `looks` Looks in all.
+    pub(crate) fn keep_ahead(
+        &mut self,
+        until: u64,
+        decided: impl IntoIterator<Item = (u64, u32, Option<P>)>,
+        looks: usize,
+    ) {
+        self.ahead.extend(decided);
+        self.ahead_until = Some(until);
+        self.looks += looks;
+    }
+
+    /// How many decisions taken ahead are kept, for Looks still to come.
+    pub(crate) fn ahead_len(&self) -> usize {
+        self.ahead.len()
+    }
+
+    /// The decisions taken ahead for the Looks of `tick`, (robot, displacement) with the
+    /// robots ascending, into `into`.
+    pub(crate) fn take_ahead(&mut self, tick: u64, into: &mut Vec<(u32, Option<P>)>) {
+        into.clear();
+        while let Some(&(t, r, d)) = self.ahead.front() {
+            if t > tick {
+                break;
+            }
+            debug_assert_eq!(t, tick, "a Look decided ahead happens at its tick");
+            into.push((r, d));
+            self.ahead.pop_front();
+        }
+    }
+
+    /// Robot `robot` starts a move from `from` (its clock says where to and when). The
+    /// clock may be one still to come, for Looks decided ahead ([`LookSight::ahead`]):
+    /// the robot is at `from` until the move starts, and told again then.
     pub fn depart(&mut self, robot: u32, from: P, timing: Timing<P>) {
         debug_assert!(timing.pending().is_some() && timing.phase == super::Phase::Move);
         let mover = Mover {
@@ -134,6 +229,7 @@ impl<P: IndexPoint> LookSight<P> {
             since: timing.since,
             until: timing.until,
         };
+        self.movers.take(robot);
         self.movers.insert(robot, mover);
         if let Some(m) = &mut self.moving
             && timing.since <= m.last
@@ -359,6 +455,10 @@ pub struct TickSight<'a, P: IndexPoint, L> {
     /// Where the points the swarm's hull and box are taken from come from, if not from
     /// every position.
     shape: Option<(&'a KeptShape<P>, u64)>,
+    /// For a Look decided ahead: set when the hull or box is asked for...
+    outlined: Option<&'a AtomicBool>,
+    /// ...except where the farthest robot is found from these points at this tick.
+    ahead: Option<(&'a AheadShape<P>, u64)>,
     all: OnceLock<Vec<P>>,
     hull: OnceLock<Vec<P>>,
     bounds: OnceLock<(P, P)>,
@@ -372,6 +472,8 @@ impl<'a, P: IndexPoint, L: Locate<P>> TickSight<'a, P, L> {
             index,
             vision,
             shape: None,
+            outlined: None,
+            ahead: None,
             all: OnceLock::new(),
             hull: OnceLock::new(),
             bounds: OnceLock::new(),
@@ -391,6 +493,9 @@ impl<'a, P: IndexPoint, L: Locate<P>> TickSight<'a, P, L> {
 
     /// Points whose hull and box are the swarm's.
     fn outline(&self) -> std::borrow::Cow<'_, [P]> {
+        if let Some(outlined) = self.outlined {
+            outlined.store(true, Ordering::Relaxed);
+        }
         match self.shape {
             Some((shape, tick)) => std::borrow::Cow::Owned(shape.points(tick)),
             None => std::borrow::Cow::Borrowed(self.positions()),
@@ -452,6 +557,9 @@ impl<P: IndexPoint, L: Locate<P>> Sight<P> for TickSight<'_, P, L> {
     /// The farthest robot is a hull vertex.
     fn farthest(&self, i: usize) -> f64 {
         let p = self.at.at(i);
+        if let Some(far) = self.ahead.and_then(|(shape, tick)| shape.farthest(p, tick)) {
+            return far;
+        }
         let hull = self.hull.get_or_init(|| {
             let points = self.outline();
             let hull = P::hull_vertices(&points);

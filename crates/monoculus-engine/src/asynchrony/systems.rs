@@ -69,7 +69,7 @@ pub(crate) fn duration(params: &Params, robot: u32, cycle: u64, tag: u64, dist: 
     ))
 }
 
-fn spec(params: &Params) -> &AsyncSpec {
+pub(super) fn spec(params: &Params) -> &AsyncSpec {
     match &params.scheduler {
         SchedulerSpec::Async(s) => s,
         _ => unreachable!("async systems run only under the async scheduler"),
@@ -354,41 +354,81 @@ pub fn look<P: IndexPoint, A: Algorithm>(
             })
             .flatten()
     };
-    let inputs = map_events(&lookers, |r| (r, clocks.0[r as usize].cycle, memory(r)));
-    // The hull and box the Looks may ask for come from the kept shape (its work done
-    // here rather than in Account, at the same tick), refreshed while the index is
-    // readied, each on its own thread on a crowded tick of a swarm of at most
-    // `TOGETHER_UP_TO` robots (both are passes of one thread for the most part).
-    let pos = &positions.points;
-    let clocks_now = &*clocks;
-    join_if(
-        lookers.len() >= MANY_EVENTS && pos.len() <= TOGETHER_UP_TO,
-        || kept_shape.refresh(|| clocks_now.with_points(pos)),
-        || sight.ready(&params, t, pos, lookers.len()),
-    );
-    let rule = (&*params, &*algorithm.0);
-    let shown = &lights.shown[..];
-    // Shared between threads where the Looks' work pays for it (timed with the
-    // making of the sight, which the tick's Looks pay for too).
-    let threads = rayon::current_num_threads();
-    let shared = clock.look_cost.share(lookers.len(), threads);
-    let when = (clock.epochs, shared);
-    let started = std::time::Instant::now();
-    let outputs = match sight.at(&params, t, pos, &kept_shape) {
-        Looking::Made(s) => decide_all(rule, (&s, shown), when, &inputs),
-        Looking::Moving(s) => decide_all(rule, (&s, shown), when, &inputs),
-        Looking::Snapshot(SnapshotSight::Index(s)) => {
-            // Built here (if it must be), its two layouts in parallel, not by the first
-            // decision while the other threads wait.
-            s.build_index();
-            decide_all(rule, (s, shown), when, &inputs)
-        }
-        Looking::Snapshot(SnapshotSight::Exact(s)) => decide_all(rule, (s, shown), when, &inputs),
-        Looking::Snapshot(SnapshotSight::Rtree(s)) => decide_all(rule, (s, shown), when, &inputs),
+    // The Looks decided ahead at an earlier tick (`ahead::decide_ahead`); the others
+    // are decided now.
+    let mut ahead = Vec::new();
+    sight.take_ahead(t, &mut ahead);
+    let fresh: std::borrow::Cow<[u32]> = if ahead.is_empty() {
+        (&lookers[..]).into()
+    } else {
+        let is_ahead = |r: &u32| ahead.binary_search_by_key(r, |&(a, _)| a).is_ok();
+        lookers.iter().copied().filter(|r| !is_ahead(r)).collect()
     };
-    let seconds = started.elapsed().as_secs_f64();
-    let timed_on = if shared { threads } else { 1 };
-    clock.look_cost.record(lookers.len(), seconds, timed_on);
+    let pos = &positions.points;
+    let mut decided = Vec::new();
+    if !fresh.is_empty() {
+        let inputs = map_events(&fresh, |r| (r, clocks.0[r as usize].cycle, memory(r)));
+        // The hull and box the Looks may ask for come from the kept shape (its work
+        // done here rather than in Account, at the same tick), refreshed while the
+        // index is readied, each on its own thread on a crowded tick of a swarm of at
+        // most `TOGETHER_UP_TO` robots (both are passes of one thread for the most part).
+        let clocks_now = &*clocks;
+        join_if(
+            fresh.len() >= MANY_EVENTS && pos.len() <= TOGETHER_UP_TO,
+            || kept_shape.refresh(|| clocks_now.with_points(pos)),
+            || sight.ready(&params, t, pos, fresh.len()),
+        );
+        let rule = (&*params, &*algorithm.0);
+        let shown = &lights.shown[..];
+        // Shared between threads where the Looks' work pays for it (timed with the
+        // making of the sight, which the tick's Looks pay for too).
+        let threads = rayon::current_num_threads();
+        let shared = clock.look_cost.share(fresh.len(), threads);
+        let when = (clock.epochs, shared);
+        let started = std::time::Instant::now();
+        decided = match sight.at(&params, t, pos, &kept_shape) {
+            Looking::Made(s) => decide_all(rule, (&s, shown), when, &inputs),
+            Looking::Moving(s) => decide_all(rule, (&s, shown), when, &inputs),
+            Looking::Snapshot(SnapshotSight::Index(s)) => {
+                // Built here (if it must be), its two layouts in parallel, not by the
+                // first decision while the other threads wait.
+                s.build_index();
+                decide_all(rule, (s, shown), when, &inputs)
+            }
+            Looking::Snapshot(SnapshotSight::Exact(s)) => {
+                decide_all(rule, (s, shown), when, &inputs)
+            }
+            Looking::Snapshot(SnapshotSight::Rtree(s)) => {
+                decide_all(rule, (s, shown), when, &inputs)
+            }
+        };
+        let seconds = started.elapsed().as_secs_f64();
+        let timed_on = if shared { threads } else { 1 };
+        clock.look_cost.record(fresh.len(), seconds, timed_on);
+        // The Looks of the ticks to come that can be decided now: where nothing but
+        // the robots' positions goes into a decision.
+        if !with_memory
+            && lights.set.is_empty()
+            && params.faults.is_none()
+            && !algorithm.0.decides_together()
+        {
+            let rule = (&*params, &*algorithm.0);
+            super::ahead::decide_ahead(rule, &mut clock, &clocks, (pos, &kept_shape), &mut sight);
+        }
+    }
+    // Every looker's decision, in the lookers' order.
+    let outputs: Vec<Decided<P, A>> = if ahead.is_empty() {
+        decided
+    } else {
+        let (mut early, mut now) = (ahead.into_iter().peekable(), decided.into_iter());
+        lookers
+            .iter()
+            .map(|&r| match early.next_if(|&(a, _)| a == r) {
+                Some((_, d)) => (d, None),
+                None => now.next().expect("a decision a looker"),
+            })
+            .collect()
+    };
     // The colours the decisions set, shown when their Computes end.
     if !lights.set.is_empty() {
         for (&r, (_, memory)) in lookers.iter().zip(&outputs) {
