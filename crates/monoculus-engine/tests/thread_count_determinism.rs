@@ -106,7 +106,10 @@ fn async_looks_decided_ahead_do_not_depend_on_thread_count() {
     // Computes of at least 100 ticks: the Looks of the ticks to come are decided with
     // a tick's own, hundreds at once, shared between threads. Three epochs.
     let spec = AsyncSpec {
-        idle: TickDist::Uniform { min: 100, max: 1000 },
+        idle: TickDist::Uniform {
+            min: 100,
+            max: 1000,
+        },
         compute: TickDist::Uniform { min: 100, max: 500 },
         motion: TickDist::Exponential { mean: 400.0 },
         start: AsyncStart::Random,
