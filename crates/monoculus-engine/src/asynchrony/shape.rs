@@ -221,7 +221,7 @@ impl<P: IndexPoint> KeptShape<P> {
 /// which it may no longer be a robot's (a robot at rest there leaves), and the segments
 /// that may leave that hull.
 #[derive(Clone, Debug, Default)]
-pub struct AheadShape<P> {
+pub(crate) struct AheadShape<P> {
     /// A vertex of the hull at rest, and the tick at which a robot at rest there starts
     /// a move, so that it is elsewhere at every later tick (`u64::MAX`: none does).
     vertices: Vec<(P, u64)>,
@@ -232,7 +232,7 @@ pub struct AheadShape<P> {
 impl<P: IndexPoint> AheadShape<P> {
     /// The distance from `p` to the farthest robot at `tick`, if these points tell it:
     /// `None` where the farthest of them is a vertex whose robot has left by then.
-    pub fn farthest(&self, p: P, tick: u64) -> Option<f64> {
+    pub(crate) fn farthest(&self, p: P, tick: u64) -> Option<f64> {
         if self.vertices.is_empty() {
             return None;
         }
@@ -266,7 +266,7 @@ impl<P: IndexPoint> KeptShape<P> {
     /// between: the vertices at rest, the movers that may leave their hull, and those
     /// of `departing` whose segment is not certainly strictly inside it. Any other robot
     /// lies strictly inside the hull at rest, nearer than one of its vertices.
-    pub fn ahead(&self, departing: impl Iterator<Item = (P, Timing<P>)>) -> AheadShape<P> {
+    pub(crate) fn ahead(&self, departing: impl Iterator<Item = (P, Timing<P>)>) -> AheadShape<P> {
         let mut vertices: Vec<(P, u64)> = self.rest.hull().iter().map(|&v| (v, u64::MAX)).collect();
         let mut movers: Vec<(P, P, u64, u64)> = self
             .outside
