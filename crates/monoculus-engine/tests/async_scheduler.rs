@@ -20,6 +20,26 @@ fn lockstep(i: u64, c: u64, m: u64) -> AsyncSpec {
     }
 }
 
+/// Idle U(shortest, 2 scale), Compute U(shortest, scale), Move Exp(0.8 scale), a
+/// random start.
+fn scaled_timing(scale: u64, shortest: u64) -> AsyncSpec {
+    AsyncSpec {
+        idle: TickDist::Uniform {
+            min: shortest,
+            max: 2 * scale,
+        },
+        compute: TickDist::Uniform {
+            min: shortest,
+            max: scale,
+        },
+        motion: TickDist::Exponential {
+            mean: 0.8 * scale as f64,
+        },
+        start: AsyncStart::Random,
+        durations: None,
+    }
+}
+
 fn random_timing(start: AsyncStart) -> AsyncSpec {
     AsyncSpec {
         idle: TickDist::Uniform { min: 1, max: 10 },
@@ -295,18 +315,7 @@ fn watching_a_run_tick_by_tick_does_not_change_it() {
 #[test]
 fn the_moving_index_agrees_with_the_exact_backend_at_every_time_resolution() {
     use monoculus_core::init::{InitShape, generate};
-    let timing = |scale: u64| AsyncSpec {
-        idle: TickDist::Uniform {
-            min: 1,
-            max: 2 * scale,
-        },
-        compute: TickDist::Uniform { min: 1, max: scale },
-        motion: TickDist::Exponential {
-            mean: 0.8 * scale as f64,
-        },
-        start: AsyncStart::Random,
-        durations: None,
-    };
+    let timing = |scale: u64| scaled_timing(scale, 1);
     let starts = [
         ("random", common::square(150, 12.0, 5)),
         (
@@ -343,21 +352,7 @@ fn the_moving_index_agrees_with_the_exact_backend_at_every_time_resolution() {
 #[test]
 fn looks_decided_ahead_are_those_of_their_ticks() {
     use monoculus_core::init::{InitShape, generate};
-    let timing = |scale: u64| AsyncSpec {
-        idle: TickDist::Uniform {
-            min: scale / 4,
-            max: 2 * scale,
-        },
-        compute: TickDist::Uniform {
-            min: scale / 4,
-            max: scale,
-        },
-        motion: TickDist::Exponential {
-            mean: 0.8 * scale as f64,
-        },
-        start: AsyncStart::Random,
-        durations: None,
-    };
+    let timing = |scale: u64| scaled_timing(scale, scale / 4);
     let starts = [
         ("random", common::square(150, 12.0, 7)),
         ("dense", common::square(120, 3.0, 7)),

@@ -25,7 +25,7 @@ use monoculus_core::algorithms::Algorithm;
 use rayon::prelude::*;
 
 use super::systems::{MOVE, duration, spec};
-use super::{AsyncClock, Clocks, KeptShape, LookSight, Phase, TickDist};
+use super::{AsyncClock, Clocks, KeptShape, LookSight, Phase};
 use crate::IndexPoint;
 use crate::resources::{Failure, Params};
 use crate::systems::{decide_one, realise};
@@ -36,11 +36,7 @@ pub(super) fn lead(params: &Params) -> u64 {
     if spec.durations.is_some() {
         return 1;
     }
-    match spec.compute {
-        TickDist::Fixed { ticks } => ticks,
-        TickDist::Uniform { min, .. } => min,
-        TickDist::Exponential { .. } => 1,
-    }
+    spec.compute.shortest()
 }
 
 /// Decides ahead, at the current tick, the Looks of the ticks after it that
@@ -119,7 +115,6 @@ pub(super) fn decide_ahead<P: IndexPoint, A: Algorithm>(
     if trial.failure.get().is_some() {
         return;
     }
-    let before = sight.ahead_len();
-    sight.keep_ahead(last, decided.into_iter().flatten(), lookers.len());
-    clock.looks_ahead += (sight.ahead_len() - before) as u64;
+    let kept = sight.keep_ahead(last, decided.into_iter().flatten(), lookers.len());
+    clock.looks_ahead += kept as u64;
 }

@@ -97,6 +97,20 @@ impl<P: IndexPoint> Timing<P> {
     }
 }
 
+/// Where a move from `from` to `to` over the ticks `since..until` is at `tick`, at any
+/// tick: at `from` until it starts (a move filed ahead of its start), at `to` itself
+/// once it has ended (as its arrival settles it), on its segment between.
+#[inline]
+pub(crate) fn on_move<P: IndexPoint>(from: P, to: P, since: u64, until: u64, tick: u64) -> P {
+    if tick <= since {
+        from
+    } else if tick >= until {
+        to
+    } else {
+        interpolate(from, to, since, until, tick)
+    }
+}
+
 /// Where a move from `from` to `to` over the ticks `since..until` is at `tick` (at or
 /// after `since`): `from` for a move of no ticks.
 #[inline]

@@ -96,6 +96,14 @@ impl<T> Roster<T> {
         self.items.push((robot, item));
     }
 
+    /// Gives `robot` its item, in place if it is there, else added.
+    pub(crate) fn set(&mut self, robot: u32, item: T) {
+        match self.slot.get(robot) {
+            ABSENT => self.insert(robot, item),
+            at => self.items[at as usize].1 = item,
+        }
+    }
+
     /// Removes `robot`; whether it was there.
     pub(crate) fn remove(&mut self, robot: u32) -> bool {
         self.take(robot).is_some()
@@ -202,5 +210,12 @@ mod tests {
         assert_eq!(r.iter().count(), 0);
         r.insert(1, 'e');
         assert_eq!(r.iter().count(), 1);
+        // Set: in place where there, else added.
+        r.set(1, 'f');
+        r.set(2, 'g');
+        let mut now: Vec<_> = r.iter().copied().collect();
+        now.sort_unstable();
+        assert_eq!(now, vec![(1, 'f'), (2, 'g')]);
+        assert_eq!(r.get(1), Some(&'f'));
     }
 }

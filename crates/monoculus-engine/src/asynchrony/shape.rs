@@ -246,13 +246,7 @@ impl<P: IndexPoint> AheadShape<P> {
             }
         }
         for &(from, to, since, until) in &self.movers {
-            let at = if tick <= since {
-                from
-            } else if tick >= until {
-                to
-            } else {
-                super::components::interpolate(from, to, since, until, tick)
-            };
+            let at = super::components::on_move(from, to, since, until, tick);
             real = real.max((at - p).length());
         }
         (left <= real).then_some(real)

@@ -10,7 +10,7 @@ use monoculus_core::metrics::bounds;
 use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
 use rayon::prelude::*;
 
-use super::components::interpolate;
+use super::components::on_move;
 use super::roster::Roster;
 use super::{AheadShape, KeptShape, Timing};
 use crate::IndexPoint;
@@ -60,18 +60,11 @@ struct Mover<P> {
 }
 
 impl<P: IndexPoint> Mover<P> {
-    /// Where the robot is at `tick`: at `from` until its move starts (a move decided
-    /// ahead, see [`LookSight::depart`]), at `to` itself once it has ended (as its
-    /// arrival will settle it), on its segment between.
+    /// Where the robot is at `tick` ([`on_move`]: also before its move starts, for a
+    /// move filed ahead, see [`LookSight::depart`]).
     #[inline]
     fn at(&self, from: P, tick: u64) -> P {
-        if tick <= self.since {
-            from
-        } else if tick >= self.until {
-            self.to
-        } else {
-            interpolate(from, self.to, self.since, self.until, tick)
-        }
+        on_move(from, self.to, self.since, self.until, tick)
     }
 
     /// A disc the robot, leaving `from`, stays in at every tick from `first` (at or
@@ -188,21 +181,19 @@ impl<P: IndexPoint> LookSight<P> {
 
     /// Keeps the decisions taken ahead for the Looks up to tick `until` (`decided`:
     /// (tick, robot, displacement) in tick order, robots ascending within a tick; the
-    /// Looks not listed are decided at their ticks), `looks` Looks in all.
+    /// Looks not listed are decided at their ticks), `looks` Looks in all; how many
+    /// it keeps.
     pub(crate) fn keep_ahead(
         &mut self,
         until: u64,
         decided: impl IntoIterator<Item = (u64, u32, Option<P>)>,
         looks: usize,
-    ) {
+    ) -> usize {
+        let before = self.ahead.len();
         self.ahead.extend(decided);
         self.ahead_until = Some(until);
         self.looks += looks;
-    }
-
-    /// How many decisions taken ahead are kept, for Looks still to come.
-    pub(crate) fn ahead_len(&self) -> usize {
-        self.ahead.len()
+        self.ahead.len() - before
     }
 
     /// The decisions taken ahead for the Looks of `tick`, (robot, displacement) with the
@@ -220,7 +211,7 @@ impl<P: IndexPoint> LookSight<P> {
     }
 
     /// Robot `robot` starts a move from `from` (its clock says where to and when). The
-    /// clock may be one still to come, for Looks decided ahead ([`LookSight::ahead`]):
+    /// clock may be one still to come, for Looks decided ahead (docs/architecture.md):
     /// the robot is at `from` until the move starts, and told again then.
     pub fn depart(&mut self, robot: u32, from: P, timing: Timing<P>) {
         debug_assert!(timing.pending().is_some() && timing.phase == super::Phase::Move);
@@ -229,8 +220,7 @@ impl<P: IndexPoint> LookSight<P> {
             since: timing.since,
             until: timing.until,
         };
-        self.movers.take(robot);
-        self.movers.insert(robot, mover);
+        self.movers.set(robot, mover);
         if let Some(m) = &mut self.moving
             && timing.since <= m.last
         {

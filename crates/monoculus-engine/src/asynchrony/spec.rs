@@ -113,6 +113,23 @@ pub struct AsyncSpec {
 pub const MAX_PHASE_TICKS: u64 = 1 << 40;
 
 impl TickDist {
+    /// The shortest duration a draw can give, ticks (a draw is at least 1).
+    ///
+    /// ```
+    /// use monoculus_engine::TickDist;
+    ///
+    /// assert_eq!(TickDist::Uniform { min: 100, max: 500 }.shortest(), 100);
+    /// assert_eq!(TickDist::Exponential { mean: 400.0 }.shortest(), 1);
+    /// ```
+    pub fn shortest(&self) -> u64 {
+        match *self {
+            TickDist::Fixed { ticks } => ticks,
+            TickDist::Uniform { min, .. } => min,
+            TickDist::Exponential { .. } => 1,
+        }
+        .max(1)
+    }
+
     /// The longest duration a draw can give, ticks: an exponential draw is
     /// `ceil(-mean ln(1 - u))` with `u` of 53 bits, so at most 36.8 times the mean.
     pub fn longest(&self) -> f64 {
