@@ -8,7 +8,7 @@ use glam::{DVec2, DVec3};
 use monoculus_core::geometry::Point;
 use monoculus_engine::{EngineError, IndexPoint, RunOutcome, StoppedBy};
 use monoculus_experiments::Experiment;
-use monoculus_experiments::results::{run_row, runs_header};
+use monoculus_experiments::results::{param_values, run_row, runs_header};
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -179,9 +179,10 @@ impl Simulation {
         self.failed(py, &outcome)?;
         let cell = &self.exp.cells[self.cell];
         let ms = self.started.elapsed().as_secs_f64() * 1e3;
-        let row = run_row(&self.exp, cell, self.seed, &outcome, ms);
+        let params = param_values(&self.exp, cell);
+        let row = run_row(&params, &self.exp, cell, self.seed, &outcome, ms);
         let d = PyDict::new(py);
-        for (k, v) in runs_header(&self.exp).iter().zip(row) {
+        for (k, v) in runs_header(&self.exp).iter().zip(&row) {
             d.set_item(k, v)?;
         }
         Ok(d.unbind())

@@ -192,6 +192,8 @@ fn a_killed_sweep_resumes_and_force_starts_over() {
     let o = out.to_str().unwrap();
     ok(&["run", c, "--out", o]);
     let full = rows_without_wall(&out);
+    let summary = || std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let full_summary = summary();
     // Simulate a kill: keep the header and 5 rows, plus half of a sixth.
     let text = std::fs::read_to_string(out.join("runs.csv")).unwrap();
     let lines: Vec<&str> = text.lines().collect();
@@ -200,6 +202,8 @@ fn a_killed_sweep_resumes_and_force_starts_over() {
     let stdout = ok(&["run", c, "--out", o]);
     assert!(stdout.contains("ran 11 runs, 5 already done"), "{stdout}");
     assert_eq!(rows_without_wall(&out), full);
+    // The summary counts the rows found on resuming and those run since.
+    assert_eq!(summary(), full_summary);
     let stdout = ok(&["run", c, "--out", o]);
     assert!(stdout.contains("ran 0 runs, 16 already done"), "{stdout}");
     let stdout = ok(&["run", c, "--out", o, "--force"]);

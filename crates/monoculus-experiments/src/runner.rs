@@ -11,7 +11,7 @@ use monoculus_engine::{EngineError, IndexPoint, RunOutcome, Simulation};
 use rayon::prelude::*;
 
 use crate::config::{Cell, Experiment, RunId, SchedulerKind};
-use crate::results::{OpenSpec, ResultsDir, ResultsError, run_row};
+use crate::results::{OpenSpec, ResultsDir, ResultsError, param_values, run_row};
 use crate::shard::{Shard, shard_runs};
 
 /// Options of `monoculus run`.
@@ -267,6 +267,7 @@ pub fn run_experiment(
         .filter(|r| !results.done.contains(r))
         .collect();
     let skipped = total - pending.len();
+    let params: Vec<Vec<String>> = exp.cells.iter().map(|c| param_values(exp, c)).collect();
     let finished = AtomicUsize::new(0);
     let failure: Mutex<Option<SweepError>> = Mutex::new(None);
     let failed: Mutex<Vec<(RunId, String)>> = Mutex::new(Vec::new());
@@ -297,7 +298,10 @@ pub fn run_experiment(
                     Ok(true)
                 }
                 None => {
-                    results.append(&run_row(exp, cell, run.seed, &outcome, ms))?;
+                    results.append(
+                        *run,
+                        run_row(&params[run.cell], exp, cell, run.seed, &outcome, ms),
+                    )?;
                     Ok(true)
                 }
             });

@@ -1,4 +1,4 @@
-//! [`fields_of`]: the fields of one record, each as the CSV writer writes it (before
+//! [`record_of`]: the fields of one record, each as the CSV writer writes it (before
 //! quoting), taken straight from the record's `Serialize` with no CSV text between.
 
 use serde::Serialize;
@@ -9,14 +9,21 @@ use serde::ser::{self, Impossible};
 /// option as an empty field), unquoted, as a CSV reader gives them back (tested against
 /// one). A record is a struct or a tuple of scalars, or one scalar.
 pub(crate) fn fields_of<T: Serialize>(value: &T) -> Vec<String> {
-    let mut out = Vec::with_capacity(48);
-    let fields = Fields {
-        out: &mut out,
-        nested: false,
-    };
+    record_of(value).iter().map(String::from).collect()
+}
+
+/// [`fields_of`] as one record (its fields in one buffer), appended to `out`.
+pub(crate) fn push_fields<T: Serialize>(value: &T, out: &mut csv::StringRecord) {
+    let fields = Fields { out, nested: false };
     value
         .serialize(fields)
         .expect("a row is a struct or a tuple of scalars");
+}
+
+/// [`fields_of`] as one record.
+pub(crate) fn record_of<T: Serialize>(value: &T) -> csv::StringRecord {
+    let mut out = csv::StringRecord::with_capacity(512, 48);
+    push_fields(value, &mut out);
     out
 }
 
@@ -41,14 +48,14 @@ impl ser::Error for NotScalar {
 /// Where the fields go, one by one: a scalar is one field, a struct or a tuple (at the
 /// top only) one field a member.
 struct Fields<'a> {
-    out: &'a mut Vec<String>,
+    out: &'a mut csv::StringRecord,
     /// Inside the record: a struct or a tuple here is not a field.
     nested: bool,
 }
 
 impl Fields<'_> {
-    fn push(self, field: String) -> Result<(), NotScalar> {
-        self.out.push(field);
+    fn push(self, field: &str) -> Result<(), NotScalar> {
+        self.out.push_field(field);
         Ok(())
     }
 
@@ -75,12 +82,13 @@ fn not_scalar<T>(what: &str) -> Result<T, NotScalar> {
     Err(NotScalar(format!("a field cannot be {what}")))
 }
 
-macro_rules! scalars {
-    ($($method:ident: $ty:ty => $text:expr;)*) => {
+/// Integers and floats, each formatted into its own stack buffer (the `csv` writer's
+/// forms: itoa's and ryu's).
+macro_rules! numbers {
+    ($($method:ident: $ty:ty => $buffer:ty;)*) => {
         $(
             fn $method(self, v: $ty) -> Result<(), NotScalar> {
-                #[allow(clippy::redundant_closure_call, reason = "one pattern for every scalar")]
-                self.push(($text)(v))
+                self.push(<$buffer>::new().format(v))
             }
         )*
     };
@@ -97,25 +105,37 @@ impl ser::Serializer for Fields<'_> {
     type SerializeStruct = Self;
     type SerializeStructVariant = Impossible<(), NotScalar>;
 
-    scalars! {
-        serialize_bool: bool => |v: bool| if v { "true" } else { "false" }.to_string();
-        serialize_i8: i8 => |v: i8| v.to_string();
-        serialize_i16: i16 => |v: i16| v.to_string();
-        serialize_i32: i32 => |v: i32| v.to_string();
-        serialize_i64: i64 => |v: i64| v.to_string();
-        serialize_u8: u8 => |v: u8| v.to_string();
-        serialize_u16: u16 => |v: u16| v.to_string();
-        serialize_u32: u32 => |v: u32| v.to_string();
-        serialize_u64: u64 => |v: u64| v.to_string();
-        serialize_f32: f32 => |v: f32| ryu::Buffer::new().format(v).to_string();
-        serialize_f64: f64 => |v: f64| ryu::Buffer::new().format(v).to_string();
-        serialize_char: char => |v: char| v.to_string();
-        serialize_str: &str => |v: &str| v.to_string();
-        serialize_bytes: &[u8] => |v: &[u8]| String::from_utf8_lossy(v).into_owned();
+    numbers! {
+        serialize_i8: i8 => itoa::Buffer;
+        serialize_i16: i16 => itoa::Buffer;
+        serialize_i32: i32 => itoa::Buffer;
+        serialize_i64: i64 => itoa::Buffer;
+        serialize_u8: u8 => itoa::Buffer;
+        serialize_u16: u16 => itoa::Buffer;
+        serialize_u32: u32 => itoa::Buffer;
+        serialize_u64: u64 => itoa::Buffer;
+        serialize_f32: f32 => ryu::Buffer;
+        serialize_f64: f64 => ryu::Buffer;
+    }
+
+    fn serialize_bool(self, v: bool) -> Result<(), NotScalar> {
+        self.push(if v { "true" } else { "false" })
+    }
+
+    fn serialize_char(self, v: char) -> Result<(), NotScalar> {
+        self.push(v.encode_utf8(&mut [0; 4]))
+    }
+
+    fn serialize_str(self, v: &str) -> Result<(), NotScalar> {
+        self.push(v)
+    }
+
+    fn serialize_bytes(self, v: &[u8]) -> Result<(), NotScalar> {
+        self.push(&String::from_utf8_lossy(v))
     }
 
     fn serialize_none(self) -> Result<(), NotScalar> {
-        self.push(String::new())
+        self.push("")
     }
 
     fn serialize_some<T: ?Sized + Serialize>(self, value: &T) -> Result<(), NotScalar> {
@@ -123,11 +143,11 @@ impl ser::Serializer for Fields<'_> {
     }
 
     fn serialize_unit(self) -> Result<(), NotScalar> {
-        self.push(String::new())
+        self.push("")
     }
 
     fn serialize_unit_struct(self, name: &'static str) -> Result<(), NotScalar> {
-        self.push(name.to_string())
+        self.push(name)
     }
 
     fn serialize_unit_variant(
@@ -136,7 +156,7 @@ impl ser::Serializer for Fields<'_> {
         _index: u32,
         variant: &'static str,
     ) -> Result<(), NotScalar> {
-        self.push(variant.to_string())
+        self.push(variant)
     }
 
     fn serialize_newtype_struct<T: ?Sized + Serialize>(

@@ -11,6 +11,7 @@ mod rows;
 mod store;
 mod stress_log;
 mod summary;
+mod text;
 
 pub use fsio::{create_if_absent, write_atomic};
 pub use lock::{Lock, LockKind};
@@ -18,7 +19,7 @@ pub use merge::{MergeReport, MissingRuns, merge};
 pub use provenance::{Attempt, GIT_COMMIT, Provenance, VERSION, config_hash, host_name};
 pub use record::{
     CONFIG_HASH_COLUMN, METRIC_COLUMNS, PARAM_COLUMNS, RowSchema, RunMetrics, num, param_header,
-    run_row, runs_header,
+    param_values, run_row, runs_header,
 };
 pub use rows::{FoundRows, RunRows, read_rows, write_rows};
 pub use store::{

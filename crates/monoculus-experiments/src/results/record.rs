@@ -223,7 +223,7 @@ pub(crate) mod plain {
     use serde::{Deserialize, Deserializer, Serializer};
 
     pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(&format!("{x}"))
+        super::super::text::with_plain(*x, |text| s.serialize_str(text))
     }
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -239,7 +239,7 @@ mod plain_opt {
 
     pub fn serialize<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
         match x {
-            Some(x) => s.serialize_str(&format!("{x}")),
+            Some(x) => super::super::text::with_plain(*x, |text| s.serialize_str(text)),
             None => s.serialize_str(""),
         }
     }
@@ -397,17 +397,32 @@ impl RowSchema {
     }
 }
 
-/// The full row of one finished run.
+/// The full row of one finished run, its fields in column order (`runs_header`):
+/// `params` (its cell's [`param_values`], the same for every run of the cell), then its
+/// metrics.
+///
+/// ```no_run
+/// # fn row(exp: &monoculus_experiments::Experiment, outcome: &monoculus_engine::RunOutcome) {
+/// use monoculus_experiments::results::{param_values, run_row, runs_header};
+/// let cell = &exp.cells[0];
+/// let row = run_row(&param_values(exp, cell), exp, cell, 7, outcome, 1.5);
+/// assert_eq!(row.len(), runs_header(exp).len());
+/// # }
+/// ```
 pub fn run_row(
+    params: &[String],
     exp: &Experiment,
     cell: &Cell,
     seed: u64,
     o: &RunOutcome,
     wall_ms: f64,
-) -> Vec<String> {
-    let mut v = param_values(exp, cell);
-    v.extend(RunMetrics::of(exp, cell, seed, o, wall_ms).fields());
-    v
+) -> csv::StringRecord {
+    let mut row = csv::StringRecord::with_capacity(512, 48);
+    for value in params {
+        row.push_field(value);
+    }
+    super::fields::push_fields(&RunMetrics::of(exp, cell, seed, o, wall_ms), &mut row);
+    row
 }
 
 #[cfg(test)]

@@ -15,11 +15,9 @@ where
     I: IntoIterator<Item = T>,
     T: AsRef<[u8]>,
 {
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(false)
-        .from_writer(vec![]);
-    w.write_record(record).expect("writing to memory");
-    w.into_inner().expect("writing to memory")
+    let mut line = Vec::new();
+    super::text::push_record(&mut line, record);
+    line
 }
 
 /// What a rows file holds, unchecked.
@@ -82,12 +80,7 @@ impl FoundRows {
     pub fn check(self, exp: &Experiment, path: &Path) -> Result<RunRows, ResultsError> {
         let header = runs_header(exp);
         if self.header.is_empty() {
-            return Ok(RunRows {
-                header,
-                rows: Vec::new(),
-                ids: Vec::new(),
-                lines: Vec::new(),
-            });
+            return Ok(RunRows::empty(header));
         }
         if self.header != header {
             return Err(ResultsError::Mismatch {
@@ -163,6 +156,23 @@ impl FoundRows {
 }
 
 impl RunRows {
+    /// No rows yet, under `header`.
+    pub fn empty(header: Vec<String>) -> Self {
+        RunRows {
+            header,
+            rows: Vec::new(),
+            ids: Vec::new(),
+            lines: Vec::new(),
+        }
+    }
+
+    /// Adds the row of `run`, as the next line of the file.
+    pub fn push(&mut self, run: RunId, row: csv::StringRecord) {
+        self.lines.push(self.rows.len() + 2);
+        self.rows.push(row);
+        self.ids.push(run);
+    }
+
     /// Keeps the first row of every run.
     pub fn dedup(&mut self) {
         let mut seen = HashSet::new();

@@ -209,7 +209,7 @@ pub struct ResultsDir {
     dir: PathBuf,
     rows_path: PathBuf,
     shard: Option<Shard>,
-    runs: Mutex<File>,
+    runs: Mutex<Appender>,
     failures_path: PathBuf,
     failures: Mutex<Option<File>>,
     /// The runs already in the rows file.
@@ -217,6 +217,17 @@ pub struct ResultsDir {
     /// Duplicated rows found (and dropped) when resuming.
     pub dropped_duplicates: usize,
     _locks: Vec<Lock>,
+}
+
+/// The rows file, open for appending, and (for a whole run) every row it holds: those
+/// checked when the folder was opened and those appended since. No other process writes
+/// the file while the folder is locked, so the summary is made from these rows without
+/// reading the file back.
+struct Appender {
+    file: File,
+    rows: Option<RunRows>,
+    /// The line being written (its buffer kept from row to row).
+    line: Vec<u8>,
 }
 
 impl ResultsDir {
@@ -310,6 +321,7 @@ impl ResultsDir {
         let header = runs_header(exp);
         let mut done = HashSet::new();
         let mut dropped_duplicates = 0;
+        let mut kept = RunRows::empty(header.clone());
         if rows_path.exists() {
             let found = read_rows(&rows_path)?;
             let (partial, headless) = (found.partial, found.header.is_empty());
@@ -321,6 +333,7 @@ impl ResultsDir {
                 write_rows(&rows_path, &header, &rows.rows)?;
             }
             done = rows.ids.iter().copied().collect();
+            kept = rows;
         } else {
             write_rows(&rows_path, &header, &[])?;
         }
@@ -338,7 +351,11 @@ impl ResultsDir {
             failures: Mutex::new(None),
             rows_path,
             shard: spec.shard,
-            runs: Mutex::new(file),
+            runs: Mutex::new(Appender {
+                file,
+                rows: spec.shard.is_none().then_some(kept),
+                line: Vec::with_capacity(512),
+            }),
             done,
             dropped_duplicates,
             _locks: locks,
@@ -350,13 +367,20 @@ impl ResultsDir {
         &self.rows_path
     }
 
-    /// Appends one finished run (one `write` call, flushed at once, so a killed sweep
-    /// keeps every finished row).
-    pub fn append(&self, row: &[String]) -> Result<(), ResultsError> {
-        let bytes = super::rows::line_of(row);
-        let mut f = self.runs.lock().unwrap_or_else(|p| p.into_inner());
-        f.write_all(&bytes).map_err(io(&self.rows_path))?;
-        f.flush().map_err(io(&self.rows_path))
+    /// Appends one finished run, `row` (as [`run_row`](super::run_row) gives it): one
+    /// `write` call, flushed at once, so a killed sweep keeps every finished row.
+    pub fn append(&self, run: RunId, row: csv::StringRecord) -> Result<(), ResultsError> {
+        let mut guard = self.runs.lock().unwrap_or_else(|p| p.into_inner());
+        let appender = &mut *guard;
+        appender.line.clear();
+        super::text::push_record(&mut appender.line, &row);
+        (appender.file.write_all(&appender.line))
+            .and_then(|()| appender.file.flush())
+            .map_err(io(&self.rows_path))?;
+        if let Some(rows) = &mut appender.rows {
+            rows.push(run, row);
+        }
+        Ok(())
     }
 
     /// Records a run whose algorithm failed (appended to `failures.csv`, or the shard's
@@ -398,21 +422,19 @@ impl ResultsDir {
         &self.failures_path
     }
 
-    /// A whole run: writes `summary.csv` from every row, and, once every run of the
+    /// A whole run: writes `summary.csv` from every row (those found when the folder was
+    /// opened and those appended since), and, once every run of the
     /// experiment is there, rewrites `runs.csv` sorted by cell and seed (the same file
     /// whatever order runs finished in). A shard writes nothing more: `merge` does.
     pub fn finish(&self, exp: &Experiment) -> Result<(), ResultsError> {
         if self.shard.is_some() {
             return Ok(());
         }
-        let _guard = self.runs.lock().unwrap_or_else(|p| p.into_inner());
-        let rows = read_rows(&self.rows_path)?.check(exp, &self.rows_path)?;
-        write_summary(&self.dir.join("summary.csv"), exp, &rows)?;
-        if rows.is_complete(exp) {
-            let mut sorted = rows;
-            if sorted.sort() {
-                write_rows(&self.rows_path, &runs_header(exp), &sorted.rows)?;
-            }
+        let mut guard = self.runs.lock().unwrap_or_else(|p| p.into_inner());
+        let rows = guard.rows.as_mut().expect("a whole run keeps its rows");
+        write_summary(&self.dir.join("summary.csv"), exp, rows)?;
+        if rows.is_complete(exp) && rows.sort() {
+            write_rows(&self.rows_path, &runs_header(exp), &rows.rows)?;
         }
         Ok(())
     }
