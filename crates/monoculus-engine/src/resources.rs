@@ -170,10 +170,15 @@ pub struct Tally {
     pub committed_hull_growth: u64,
 }
 
-/// The vertices of the current hull of the positions (plane only; see
+/// The vertices of the current hull of the correct robots' positions (plane only; see
 /// [`HullGeometry::hull_vertices`](monoculus_core::geometry::HullGeometry)).
 #[derive(Resource, Clone, Debug)]
-pub struct HullVertices<P: IndexPoint>(pub Vec<P>);
+pub struct HullVertices<P: IndexPoint> {
+    /// The vertices (empty in space).
+    pub vertices: Vec<P>,
+    /// The [`Positions::generation`] they were taken at.
+    pub generation: u64,
+}
 
 /// The shape of the configuration, measured after every round.
 #[derive(Resource, Clone, Debug, Default)]

@@ -143,3 +143,36 @@ fn deciding_in_the_grids_order_changes_no_decision() {
         }
     }
 }
+
+/// With faulty robots: crashed robots stay where they stopped and are seen, and
+/// Byzantine ones go anywhere, so the hull measured after a round (of the correct
+/// robots) is not the hull of what robots see.
+#[test]
+fn backends_agree_with_faults() {
+    use monoculus_engine::{ByzantineRule, CrashAt, FaultCount, FaultKind, FaultSpec};
+    let kinds = [
+        FaultKind::Crash(CrashAt::Round(1)),
+        FaultKind::Byzantine(ByzantineRule::Random),
+    ];
+    for kind in kinds {
+        for (name, pts) in common::zoo(2) {
+            for scheduler in [
+                SchedulerSpec::Fsync,
+                SchedulerSpec::Ssync {
+                    p: 0.5,
+                    fairness: Some(3),
+                },
+            ] {
+                let mut cfg = common::config(AlgorithmKind::ConvergeLocality, scheduler, 4);
+                cfg.stop.max_rounds = 40;
+                cfg.stop.criterion = StopCriterion::Diameter;
+                cfg.faults = Some(FaultSpec {
+                    count: FaultCount::Robots(3),
+                    kind,
+                });
+                let what = format!("{kind:?} on {name}");
+                assert_backends_agree(&cfg, SightBackend::Exact, &pts, &what);
+            }
+        }
+    }
+}

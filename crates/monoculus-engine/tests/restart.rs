@@ -136,3 +136,28 @@ fn a_restart_refuses_a_bad_start_as_new_does() {
     let fresh = ran(&mut Simulation::new(cfg, common::square(5, 3.0, 1)).unwrap());
     same(&fresh, &ran(&mut sim));
 }
+
+/// A sweep's runs one after the other: as many robots each time, so that the robots of
+/// the run before are set again in place (a run of another size between them, so that
+/// they are also despawned and spawned), for every scheduler, with and without kept
+/// states, faults included.
+#[test]
+fn runs_of_as_many_robots_one_after_the_other_are_the_fresh_runs() {
+    for cfg in configs() {
+        let mut kept: Option<Simulation<DVec2>> = None;
+        for (seed, n) in [(1, 11), (2, 11), (3, 11), (4, 7), (5, 11), (6, 11)] {
+            let mut cfg = cfg.clone();
+            cfg.seed = seed;
+            let start = common::square(n, 5.0, seed);
+            let fresh = ran(&mut Simulation::new(cfg.clone(), start.clone()).unwrap());
+            let sim = match kept.as_mut() {
+                Some(sim) => {
+                    sim.restart(cfg, start).unwrap();
+                    sim
+                }
+                None => kept.insert(Simulation::new(cfg, start).unwrap()),
+            };
+            same(&fresh, &ran(sim));
+        }
+    }
+}

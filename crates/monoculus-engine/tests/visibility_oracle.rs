@@ -62,7 +62,9 @@ fn agrees_with_the_definition<S: Sight<glam::DVec2>>(name: &str, indexed: &S, pt
             a.sort_unstable();
             assert_eq!(a, b, "{name}: robots within {radius} of {i}");
         }
-        let mut near = indexed.neighbours(i);
+        let mut found = monoculus_core::vision::Near::new();
+        indexed.neighbours(i, &mut found);
+        let mut near = found.as_slice().to_vec();
         assert!(near.len() <= 32, "{name}: a few neighbours");
         near.sort_unstable();
         near.dedup();

@@ -481,6 +481,56 @@ mod tests {
         );
     }
 
+    /// The hull of a set and more points is that of the set's vertices and the points
+    /// not strictly inside them, to the bit (what the committed-hull measure relies on):
+    /// random, lattice and collinear sets, with points on their edges and vertices.
+    #[test]
+    fn more_points_are_measured_with_the_vertices_alone() {
+        let mut s = crate::rng::Stream::new(9, 9, 9, 9);
+        let mut sets: Vec<Vec<DVec2>> = Vec::new();
+        for n in [1, 2, 3, 10, 40] {
+            sets.push(
+                (0..n)
+                    .map(|_| DVec2::new(s.uniform_in(0.0, 4.0), s.uniform_in(0.0, 3.0)))
+                    .collect(),
+            );
+        }
+        sets.push(
+            (0..25)
+                .map(|k| DVec2::new((k % 5) as f64, (k / 5) as f64))
+                .collect(),
+        );
+        sets.push(
+            (0..9)
+                .map(|k| DVec2::new(k as f64 * 0.1, k as f64 * 0.3))
+                .collect(),
+        );
+        for (k, pts) in sets.iter().enumerate() {
+            let vertices = DVec2::hull_vertices(pts);
+            for trial in 0..200 {
+                let mut more: Vec<DVec2> = (0..trial % 7)
+                    .map(|_| match s.below(3) {
+                        0 => pts[s.below(pts.len())],
+                        1 => {
+                            let (a, b) = (pts[s.below(pts.len())], pts[s.below(pts.len())]);
+                            a.lerp(b, 0.5)
+                        }
+                        _ => DVec2::new(s.uniform_in(-0.5, 4.5), s.uniform_in(-0.5, 3.5)),
+                    })
+                    .collect();
+                let mut all = more.clone();
+                all.extend_from_slice(pts);
+                more.retain(|&d| !DVec2::strictly_inside(&vertices, d));
+                more.extend_from_slice(&vertices);
+                assert_eq!(
+                    DVec2::hull_measure(&more).to_bits(),
+                    DVec2::hull_measure(&all).to_bits(),
+                    "set {k}, trial {trial}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn degenerate_sets() {
         assert_eq!(DVec2::hull_measure(&[]), 0.0);

@@ -136,8 +136,10 @@ pub(crate) fn count_visible_up_to<P: Point, S: Sight<P> + ?Sized>(
     me: usize,
     limit: usize,
 ) -> (usize, Option<usize>) {
-    let near = sight.neighbours(me);
+    let mut near = crate::vision::Near::new();
+    sight.neighbours(me, &mut near);
     if near
+        .as_slice()
         .iter()
         .filter(|&&j| sight.is_visible_point(me, j))
         .take(limit)

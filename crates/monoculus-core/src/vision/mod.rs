@@ -12,4 +12,4 @@ pub use oracle::{
 };
 pub use params::VisionParams;
 pub use predicate::{blocks, distinct, in_range};
-pub use sight::Sight;
+pub use sight::{NEIGHBOURS, Near, Sight};

@@ -3,6 +3,72 @@
 use super::VisionParams;
 use crate::geometry::Point;
 
+/// The most robots [`Sight::neighbours`] gives.
+pub const NEIGHBOURS: usize = 32;
+
+/// A few robots near one, as [`Sight::neighbours`] gives them: at most [`NEIGHBOURS`],
+/// held on the stack (a Look asks for them once, and most Looks need no more).
+///
+/// ```
+/// use monoculus_core::vision::{NEIGHBOURS, Near};
+/// let mut near = Near::new();
+/// assert!(near.push(3) && near.push(1));
+/// assert_eq!(near.as_slice(), &[3, 1]);
+/// while near.push(7) {}
+/// assert_eq!(near.len(), NEIGHBOURS);
+/// ```
+#[derive(Clone, Debug)]
+pub struct Near {
+    len: usize,
+    items: [usize; NEIGHBOURS],
+}
+
+impl Default for Near {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Near {
+    /// None yet.
+    pub fn new() -> Self {
+        Near {
+            len: 0,
+            items: [0; NEIGHBOURS],
+        }
+    }
+
+    /// Adds robot `k`; `false` (and nothing added) once [`NEIGHBOURS`] are held.
+    pub fn push(&mut self, k: usize) -> bool {
+        if self.len == NEIGHBOURS {
+            return false;
+        }
+        self.items[self.len] = k;
+        self.len += 1;
+        true
+    }
+
+    /// Whether no more fit.
+    pub fn is_full(&self) -> bool {
+        self.len == NEIGHBOURS
+    }
+
+    /// How many are held.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether none is held.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The robots, in the order they were added.
+    pub fn as_slice(&self) -> &[usize] {
+        &self.items[..self.len]
+    }
+}
+
 /// Questions about one immutable configuration, asked on behalf of one observing robot.
 ///
 /// This trait knows positions; robots never get it. Observations
@@ -38,12 +104,11 @@ pub trait Sight<P: Point>: Sync {
     /// Robots other than `i`, nearest first (ties in any order).
     fn nearest_first(&self, i: usize) -> Box<dyn Iterator<Item = usize> + '_>;
 
-    /// A few robots near robot `i`, in any order (possibly none): candidates tried first
-    /// when counting visible points. Any answer gives the same results; a good one (the
-    /// robots of the surrounding bins) spares a nearest-first scan.
-    fn neighbours(&self, _i: usize) -> Vec<usize> {
-        Vec::new()
-    }
+    /// A few robots near robot `i`, in any order, put in `near` (possibly none):
+    /// candidates tried first when counting visible points. Any answer gives the same
+    /// results; a good one (the robots of the surrounding bins) spares a nearest-first
+    /// scan.
+    fn neighbours(&self, _i: usize, _near: &mut Near) {}
 
     /// Every visible point from robot `i` as its representative robot, ascending.
     fn visible_points(&self, i: usize) -> Vec<usize>;

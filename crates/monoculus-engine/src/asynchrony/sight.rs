@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use bevy_ecs::prelude::*;
 use monoculus_core::metrics::bounds;
-use monoculus_core::vision::{Sight, VisionParams, distinct, in_range};
+use monoculus_core::vision::{Near, Sight, VisionParams, distinct, in_range};
 use rayon::prelude::*;
 
 use super::components::on_move;
@@ -570,8 +570,8 @@ impl<P: IndexPoint, L: Locate<P>> Sight<P> for TickSight<'_, P, L> {
         self.index.alone(&self.at, &self.vision, j)
     }
 
-    fn neighbours(&self, i: usize) -> Vec<usize> {
-        self.index.neighbours(&self.at, i)
+    fn neighbours(&self, i: usize, near: &mut Near) {
+        self.index.neighbours(&self.at, i, near);
     }
 
     fn visible_points(&self, i: usize) -> Vec<usize> {

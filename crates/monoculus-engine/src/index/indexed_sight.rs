@@ -6,7 +6,7 @@ use std::sync::OnceLock;
 
 use monoculus_core::metrics::bounds;
 use monoculus_core::vision::{
-    Sight, VisionParams, beyond_brute, blocks, distinct, in_range, nearest_first_brute,
+    Near, Sight, VisionParams, beyond_brute, blocks, distinct, in_range, nearest_first_brute,
     within_brute,
 };
 
@@ -44,6 +44,9 @@ pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::I
     bounds: OnceLock<(P, P)>,
     /// At most [`FEW_ROBOTS`] robots: answered without the index.
     few: bool,
+    /// Few robots: bit `j` set when robot `j` is alone (no other within `eps_pos`),
+    /// found for all at once on first use.
+    alone_few: OnceLock<u32>,
 }
 
 /// The most robots a sight answers without its index (measured: docs/performance.md).
@@ -54,6 +57,9 @@ pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::I
 /// assert!(FEW_ROBOTS >= 10);
 /// ```
 pub const FEW_ROBOTS: usize = 16;
+
+// Which of few robots are alone is one bit each.
+const _: () = assert!(FEW_ROBOTS < 32);
 
 /// Whether `r` may block the view from `p` to `q` (else [`blocks`] is certainly false):
 /// a filter on the vectors `blocks` computes, for point robots and `eps_ang < 0.5`.
@@ -90,6 +96,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
             bounds: OnceLock::new(),
             index: I::new(&positions),
             few: few(&positions, &vision),
+            alone_few: OnceLock::new(),
             positions,
             hull: OnceLock::new(),
             vision,
@@ -111,10 +118,19 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
             bounds: OnceLock::new(),
             index,
             few: few(&positions, &vision),
+            alone_few: OnceLock::new(),
             positions,
             hull: OnceLock::new(),
             vision,
         }
+    }
+
+    /// Gives the sight the vertices of its positions' hull, as
+    /// [`HullGeometry::hull_vertices`](monoculus_core::geometry::HullGeometry) gives
+    /// them (taken by the caller anyway), so that it need not take the hull again.
+    pub(crate) fn know_hull(&self, vertices: &[P]) {
+        debug_assert!(vertices.iter().all(|v| self.positions.contains(v)));
+        self.hull.get_or_init(|| vertices.to_vec());
     }
 
     /// Builds the index now (else it is built by the first query that needs it).
@@ -158,10 +174,22 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
             return false;
         }
         if self.few {
+            // The filter over every robot without a branch (a bit each), then the
+            // predicate for the few it lets through.
             let v = &self.vision;
-            return !self.positions.iter().enumerate().any(|(k, &r)| {
-                k != i && k != j && may_block(p, r, q, v.eps_ang) && blocks(p, r, q, v)
-            });
+            let mut maybe = 0u32;
+            for (k, &r) in self.positions.iter().enumerate() {
+                maybe |= u32::from(may_block(p, r, q, v.eps_ang)) << k;
+            }
+            maybe &= !(1 << i | 1 << j);
+            while maybe != 0 {
+                let k = maybe.trailing_zeros() as usize;
+                if blocks(p, self.positions[k], q, v) {
+                    return false;
+                }
+                maybe &= maybe - 1;
+            }
+            return true;
         }
         self.index
             .clear(self.positions.as_slice(), &self.vision, i, j)
@@ -204,22 +232,37 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
 
     fn alone(&self, j: usize) -> bool {
         if self.few {
-            let (p, eps) = (self.positions[j], self.vision.eps_pos);
-            return (self.positions.iter().enumerate())
-                .all(|(k, &q)| k == j || (q - p).length() > eps);
+            let alone = self.alone_few.get_or_init(|| {
+                // Each pair once: a distance is the same either way round (`a - b` is
+                // `-(b - a)` to the bit).
+                let (pts, eps) = (&self.positions, self.vision.eps_pos);
+                let mut alone = (1u32 << pts.len()) - 1;
+                for a in 0..pts.len() {
+                    for b in a + 1..pts.len() {
+                        // Apart only if farther than `eps` (NaN is not apart).
+                        let apart = (pts[b] - pts[a]).length() > eps;
+                        if !apart {
+                            alone &= !(1 << a | 1 << b);
+                        }
+                    }
+                }
+                alone
+            });
+            return alone >> j & 1 == 1;
         }
         self.index.alone(self.positions.as_slice(), &self.vision, j)
     }
 
     /// For few robots, every other one: they are counted without sorting them by
     /// distance.
-    fn neighbours(&self, i: usize) -> Vec<usize> {
+    fn neighbours(&self, i: usize, near: &mut Near) {
         if self.few {
-            let mut others = Vec::with_capacity(self.positions.len());
-            others.extend((0..self.positions.len()).filter(|&k| k != i));
-            return others;
+            for k in (0..self.positions.len()).filter(|&k| k != i) {
+                near.push(k);
+            }
+            return;
         }
-        self.index.neighbours(self.positions.as_slice(), i)
+        self.index.neighbours(self.positions.as_slice(), i, near);
     }
 
     fn visible_points(&self, i: usize) -> Vec<usize> {

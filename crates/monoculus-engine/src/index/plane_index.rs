@@ -6,7 +6,7 @@ use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU8, Ordering};
 
 use glam::DVec2;
-use monoculus_core::vision::{VisionParams, blocks, visible_points_sweep_2d};
+use monoculus_core::vision::{Near, VisionParams, blocks, visible_points_sweep_2d};
 
 use super::{Locate, SegmentGrid, SpatialIndex, SpatialOrder, Stale, Tube, prefetch};
 
@@ -51,9 +51,6 @@ fn disc_may_reach(centre: DVec2, reach: f64, p: DVec2, radius: f64) -> bool {
     let d = (centre - p).length();
     d <= radius + reach * (1.0 + 1e-9) + 1e-12 * d
 }
-
-/// The most robots [`SpatialIndex::neighbours`] lists.
-const NEIGHBOURS: usize = 32;
 
 impl PlaneIndex {
     /// The grid, built over the positions of the first query if not yet (an index over
@@ -393,19 +390,17 @@ impl SpatialIndex<DVec2> for PlaneIndex {
         })
     }
 
-    fn neighbours<L: Locate<DVec2> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize> {
+    fn neighbours<L: Locate<DVec2> + ?Sized>(&self, pos: &L, i: usize, near: &mut Near) {
         let p = pos.at(i);
         // About a dozen robots in the 2 x 3 bins around, at most 32 where a dense core
-        // crowds them (pre-sized: grown one by one, the vector cost a tenth of a round).
-        let mut out = Vec::with_capacity(NEIGHBOURS);
+        // crowds them.
         let grid = self.grid(pos);
-        grid.near_few(p.x, p.y, i, NEIGHBOURS, &mut out);
+        grid.near_few(p.x, p.y, i, near);
         // The first few are asked about at once (`count_visible_up_to`): their positions,
         // for the lines of sight (a hint, no effect on results).
-        for &k in out.iter().take(4) {
+        for &k in near.as_slice().iter().take(4) {
             pos.prefetch(k);
         }
-        out
     }
 
     /// The angular sweep, O(n log n); for fat robots one line of sight per robot.

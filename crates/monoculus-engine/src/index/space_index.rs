@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 
-use monoculus_core::vision::{VisionParams, blocks, representatives};
+use monoculus_core::vision::{Near, VisionParams, blocks, representatives};
 use rstar::{RTree, primitives::GeomWithData};
 
 use super::{IndexPoint, Locate, SpatialIndex, Tube};
@@ -116,9 +116,7 @@ impl<P: IndexPoint> SpatialIndex<P> for SpaceIndex<P> {
         false
     }
 
-    fn neighbours<L: Locate<P> + ?Sized>(&self, _pos: &L, _i: usize) -> Vec<usize> {
-        Vec::new()
-    }
+    fn neighbours<L: Locate<P> + ?Sized>(&self, _pos: &L, _i: usize, _near: &mut Near) {}
 
     /// One line of sight per robot.
     fn visible_points(

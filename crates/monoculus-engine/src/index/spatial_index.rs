@@ -3,7 +3,7 @@
 //! plane ([`PlaneIndex`](super::PlaneIndex)), an rstar R-tree in space
 //! ([`SpaceIndex`](super::SpaceIndex)).
 
-use monoculus_core::vision::VisionParams;
+use monoculus_core::vision::{Near, VisionParams};
 
 use super::Locate;
 
@@ -137,8 +137,8 @@ pub trait SpatialIndex<P>: Send + Sync + Sized {
     /// Whether robot `j` is known to share its point with nobody (`false`: unknown).
     fn alone<L: Locate<P> + ?Sized>(&self, pos: &L, v: &VisionParams, j: usize) -> bool;
 
-    /// Robots in the bins around `i` (empty where the index has no bins).
-    fn neighbours<L: Locate<P> + ?Sized>(&self, pos: &L, i: usize) -> Vec<usize>;
+    /// Robots in the bins around `i`, put in `near` (none where the index has no bins).
+    fn neighbours<L: Locate<P> + ?Sized>(&self, pos: &L, i: usize, near: &mut Near);
 
     /// Every point `i` sees, each by the lowest index of its robots (a full look); `sees`
     /// is the sight's own line-of-sight test.

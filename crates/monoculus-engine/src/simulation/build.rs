@@ -126,25 +126,55 @@ pub(super) fn insert_resources<P: IndexPoint>(
     initial: &[P],
 ) -> f64 {
     let correct = params.correct(initial);
-    let shape = Shape::of(&correct);
-    let hull_initial = shape.hull;
     let hull_vertices = P::hull_vertices(&correct);
-    world.insert_resource(params);
-    world.insert_resource(Clock::default());
-    world.insert_resource(ScheduleState::default());
-    world.insert_resource(Tally::default());
-    world.insert_resource(shape);
-    world.insert_resource(HullVertices(hull_vertices));
-    world.insert_resource(Snapshot::<P> {
-        sight: None,
-        generation: 0,
-    });
-    world.insert_resource(Positions {
-        points: initial.to_vec(),
-        generation: 0,
-    });
+    let shape = Shape::of_hull(&correct, &hull_vertices);
+    let hull_initial = shape.hull;
+    put(world, params);
+    put(world, Clock::default());
+    put(world, ScheduleState::default());
+    put(world, Tally::default());
+    put(world, shape);
+    put(
+        world,
+        HullVertices {
+            vertices: hull_vertices,
+            generation: 0,
+        },
+    );
+    put(
+        world,
+        Snapshot::<P> {
+            sight: None,
+            generation: 0,
+        },
+    );
+    match world.get_resource_mut::<Positions<P>>() {
+        // The positions' buffer kept from the run before.
+        Some(mut positions) => {
+            positions.points.clear();
+            positions.points.extend_from_slice(initial);
+            positions.generation = 0;
+        }
+        None => world.insert_resource(Positions {
+            points: initial.to_vec(),
+            generation: 0,
+        }),
+    }
     world.init_resource::<bevy_ecs::schedule::Schedules>();
     hull_initial
+}
+
+/// Sets the resource `R` to `value`: in place where the world holds one already (a run
+/// started again, [`Simulation::restart`]), else inserted.
+pub(super) fn put<R: Resource<Mutability = bevy_ecs::component::Mutable>>(
+    world: &mut World,
+    value: R,
+) {
+    if let Some(mut held) = world.get_resource_mut::<R>() {
+        *held = value;
+        return;
+    }
+    world.insert_resource(value);
 }
 
 /// Spawns the robots of a run starting at `initial` (with their frame and state, for an
@@ -172,6 +202,11 @@ pub(super) fn spawn_robots<P: IndexPoint, A: Algorithm>(
     let round = |i: usize| (robot(i), Activated(false), Waiting(0), Intent::<P>(None));
     let n = initial.len();
     let asynchronous = matches!(config.scheduler, SchedulerSpec::Async(_));
+    if let Some(entities) =
+        respawn_in_place::<P, A::State>(world, n, asynchronous, keeps_state.then_some(&memory))
+    {
+        return entities;
+    }
     match (asynchronous, keeps_state) {
         (false, false) => world.spawn_batch((0..n).map(round)).for_each(drop),
         (false, true) => world
@@ -185,4 +220,75 @@ pub(super) fn spawn_robots<P: IndexPoint, A: Algorithm>(
         }
     }
     Vec::new()
+}
+
+/// The queries [`respawn_in_place`] asks, kept in the world from run to run (a query
+/// made anew costs more than setting ten robots again).
+#[derive(Resource)]
+struct Respawn<P: IndexPoint, S: Clone + PartialEq + Send + Sync + 'static> {
+    robots: QueryState<RobotLayout<P, S>>,
+    rounds: QueryState<RoundParts<P>>,
+    kept: QueryState<(&'static Robot, &'static mut Memory<P, S>)>,
+}
+
+/// A robot, and which of the components that differ between runs it carries.
+type RobotLayout<P, S> = (Entity, &'static Robot, Has<Activated>, Has<Memory<P, S>>);
+
+/// What a round scheduler's robot carries besides its index.
+type RoundParts<P> = (
+    &'static mut Activated,
+    &'static mut Waiting,
+    &'static mut Intent<P>,
+);
+
+/// The robots of the run before, made the robots [`spawn_robots`] would spawn, where
+/// there are `n` of them carrying the same components (the runs of a sweep, one after
+/// the other): each robot's components set again, its index kept. Their table is in
+/// index order, as they were spawned, and nothing moves a robot to another table, so
+/// the systems meet them in the order new ones would come in. Otherwise the robots
+/// before are despawned and `None` returned. Under ASYNC, the entities by index.
+fn respawn_in_place<P: IndexPoint, S: Clone + PartialEq + Send + Sync + 'static>(
+    world: &mut World,
+    n: usize,
+    asynchronous: bool,
+    memory: Option<&dyn Fn(usize) -> Memory<P, S>>,
+) -> Option<Vec<Entity>> {
+    if !world.contains_resource::<Respawn<P, S>>() {
+        let queries = Respawn::<P, S> {
+            robots: world.query(),
+            rounds: world.query(),
+            kept: world.query(),
+        };
+        world.insert_resource(queries);
+    }
+    world.resource_scope(|world, mut queries: Mut<Respawn<P, S>>| {
+        let mut entities = vec![Entity::PLACEHOLDER; n];
+        let (mut same, mut count) = (true, 0);
+        for (entity, robot, activated, remembers) in queries.robots.iter(world) {
+            let i = robot.index as usize;
+            count += 1;
+            same &= i < n && activated != asynchronous && remembers == memory.is_some();
+            if same {
+                entities[i] = entity;
+            }
+        }
+        if !same || count != n {
+            let old: Vec<Entity> = queries.robots.iter(world).map(|(e, ..)| e).collect();
+            for entity in old {
+                world.despawn(entity);
+            }
+            return None;
+        }
+        if !asynchronous {
+            for (mut activated, mut waiting, mut intent) in queries.rounds.iter_mut(world) {
+                (activated.0, waiting.0, intent.0) = (false, 0, None);
+            }
+        }
+        if let Some(memory) = memory {
+            for (robot, mut m) in queries.kept.iter_mut(world) {
+                *m = memory(robot.index as usize);
+            }
+        }
+        Some(if asynchronous { entities } else { Vec::new() })
+    })
 }

@@ -282,14 +282,8 @@ impl<P: IndexPoint> Simulation<P> {
             return Ok(());
         }
         build::validate(&config, &initial)?;
-        let robots: Vec<Entity> = self
-            .world
-            .query_filtered::<Entity, With<Robot>>()
-            .iter(&self.world)
-            .collect();
-        for robot in robots {
-            self.world.despawn(robot);
-        }
+        // The robots before are set again in place or despawned as the new ones are
+        // spawned (`build::spawn_robots`).
         let (params, measures) = prepare(&mut self.world, &config, &initial);
         config.algorithm.for_points::<P>().reinstall(Setup {
             world: &mut self.world,
@@ -475,7 +469,7 @@ pub(crate) fn populate<'a, P: IndexPoint, A: Algorithm>(
         initial,
     } = setup;
     let keeps = algorithm.keeps_state();
-    world.insert_resource(Rule(algorithm));
+    build::put(world, Rule(algorithm));
     let entities = build::spawn_robots::<P, A>(world, config, initial, keeps);
     if let SchedulerSpec::Async(spec) = &config.scheduler {
         wiring::start_async::<P, A>(world, params, spec, entities);

@@ -11,13 +11,13 @@ pub(super) fn insert_async_resources<P: IndexPoint>(
     initial: &[P],
     hull_initial: f64,
 ) {
-    world.insert_resource(AsyncClock::new(initial.len()));
-    world.insert_resource(asynchrony::CommittedHull::<P>::new(hull_initial));
-    world.insert_resource(asynchrony::KeptShape::<P>::new());
-    world.insert_resource(asynchrony::LookSight::<P>::new(initial.len()));
-    world.insert_resource(RobotEntities(Vec::new()));
-    world.insert_resource(Clocks::<P>::new(initial.len()));
-    world.insert_resource(asynchrony::Lights::default());
+    build::put(world, AsyncClock::new(initial.len()));
+    build::put(world, asynchrony::CommittedHull::<P>::new(hull_initial));
+    build::put(world, asynchrony::KeptShape::<P>::new());
+    build::put(world, asynchrony::LookSight::<P>::new(initial.len()));
+    build::put(world, RobotEntities(Vec::new()));
+    build::put(world, Clocks::<P>::new(initial.len()));
+    build::put(world, asynchrony::Lights::default());
 }
 
 /// Starts the ASYNC scheduler over the robots spawned as `entities` (by index): every

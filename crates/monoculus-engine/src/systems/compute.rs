@@ -269,14 +269,14 @@ fn decide_batched<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     params: (&Params, &A),
     round: u64,
     view: View<'_, S>,
-    bits: &[u64],
+    (bits, count): (&[u64], usize),
     robots: &mut Robots<'_, '_, P, A>,
 ) {
     const BATCH: usize = 1 << 16;
     let mut robots = robots
         .iter_mut()
         .filter(|(robot, ..)| holds(bits, robot.index as usize));
-    let mut items: Vec<RobotItem<'_, P, A>> = Vec::new();
+    let mut items: Vec<RobotItem<'_, P, A>> = Vec::with_capacity(count.min(BATCH));
     loop {
         items.clear();
         items.extend(robots.by_ref().take(BATCH));
@@ -419,7 +419,7 @@ fn compute_all<'a, P: IndexPoint, S: Sight<P>, A: Algorithm>(
     {
         return decide_in_order(params, round, view, order, (&bits, with_memory), robots);
     }
-    decide_batched(params, round, view, &bits, robots);
+    decide_batched(params, round, view, (&bits, count), robots);
 }
 
 /// Compute: every activated robot decides against the Look snapshot, in parallel

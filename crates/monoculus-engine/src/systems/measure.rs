@@ -38,14 +38,9 @@ pub fn measure_shape<P: IndexPoint>(
         return;
     }
     let correct = params.correct(&positions.points);
-    hull.0 = P::hull_vertices(&correct);
-    // Area, diameter and extents are those of the hull's vertices (the same vertex
-    // sequence, so the same values to the bit); in space there is no vertex list.
-    let mut measured = if hull.0.is_empty() {
-        Shape::of(&correct)
-    } else {
-        Shape::of_vertices(&hull.0)
-    };
+    hull.vertices = P::hull_vertices(&correct);
+    hull.generation = positions.generation;
+    let mut measured = Shape::of_hull(&correct, &hull.vertices);
     record_hull(&mut tally, &shape, &mut measured);
     *shape = measured;
 }
@@ -70,11 +65,19 @@ pub fn measure_committed<P: IndexPoint>(
         }
     }
     // Destinations strictly inside the current hull leave it exactly as it is: the
-    // common case, decided without recomputing the hull.
-    if pts.iter().all(|&d| P::strictly_inside(&hull.0, d)) {
+    // common case, decided without recomputing the hull. Those are never vertices of
+    // the hull of positions and destinations, nor are the positions inside the hull:
+    // the hull is that of its vertices and the other destinations (the same vertex
+    // sequence, so the same area to the bit; tested in `monoculus_core::geometry`).
+    pts.retain(|&d| !P::strictly_inside(&hull.vertices, d));
+    if pts.is_empty() {
         return;
     }
-    pts.extend_from_slice(&params.correct(&positions.points));
+    if hull.vertices.is_empty() {
+        pts.extend_from_slice(&params.correct(&positions.points));
+    } else {
+        pts.extend_from_slice(&hull.vertices);
+    }
     if hull_grew(shape.hull, P::hull_measure(&pts)) {
         tally.committed_hull_growth += 1;
     }
@@ -106,6 +109,26 @@ impl Shape {
     /// ```
     pub fn of_vertices<P: IndexPoint>(vertices: &[P]) -> Shape {
         Self::measured(vertices, P::vertices_hull_and_diameter(vertices))
+    }
+
+    /// Measures a configuration, `points`, whose hull's vertices are `vertices` (empty
+    /// in space, where there is no vertex list): [`Shape::of_vertices`] where there are
+    /// vertices, else [`Shape::of`] the points.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use monoculus_core::geometry::HullGeometry;
+    /// use monoculus_engine::resources::Shape;
+    /// let pts = [DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::splat(0.25)];
+    /// let shape = Shape::of_hull(&pts, &DVec2::hull_vertices(&pts));
+    /// assert_eq!(shape.diameter, Shape::of(&pts).diameter);
+    /// ```
+    pub fn of_hull<P: IndexPoint>(points: &[P], vertices: &[P]) -> Shape {
+        if vertices.is_empty() {
+            Self::of(points)
+        } else {
+            Self::of_vertices(vertices)
+        }
     }
 
     fn measured<P: IndexPoint>(points: &[P], (hull, diameter): (f64, f64)) -> Shape {

@@ -1,6 +1,8 @@
 //! Radius queries: the robots near a point, whether a robot is isolated, and the hints
 //! that fetch their bins ahead. Each asks the parts whose boxes meet its square.
 
+use monoculus_core::vision::Near;
+
 use super::SegmentGrid;
 use super::bands::Part;
 use super::filter::LANES;
@@ -41,11 +43,11 @@ impl SegmentGrid {
         }
     }
 
-    /// Appends to `out` up to `most` robots other than `skip` whose bin meets the
-    /// square around `(x, y)` of half-side the spacing its part's bins are made for:
+    /// Adds to `out` robots other than `skip` whose bin meets the square around
+    /// `(x, y)` of half-side the spacing its part's bins are made for, until it is full:
     /// a few neighbours, however crowded the bins. The innermost part first, and in
     /// each the band through `(x, y)` first.
-    pub fn near_few(&self, x: f64, y: f64, skip: usize, most: usize, out: &mut Vec<usize>) {
+    pub fn near_few(&self, x: f64, y: f64, skip: usize, out: &mut Near) {
         let g = &self.rows;
         for part in g.parts.iter().rev() {
             let radius = part.spacing;
@@ -57,7 +59,7 @@ impl SegmentGrid {
             let (c0, c1) = (part.bin(x - radius), part.bin(x + radius));
             for r in bands {
                 for s in g.bins_range(part, r, c0, c1) {
-                    if out.len() >= most {
+                    if out.is_full() {
                         return;
                     }
                     let k = g.items[s] as usize;
