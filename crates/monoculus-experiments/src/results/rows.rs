@@ -167,6 +167,14 @@ impl RunRows {
     }
 
     /// Adds the row of `run`, as the next line of the file.
+    ///
+    /// ```
+    /// use monoculus_experiments::RunId;
+    /// use monoculus_experiments::results::RunRows;
+    /// let mut rows = RunRows::empty(vec!["seed".into()]);
+    /// rows.push(RunId { cell: 0, seed: 3 }, csv::StringRecord::from(vec!["3"]));
+    /// assert_eq!((rows.ids.len(), rows.lines[0]), (1, 2));
+    /// ```
     pub fn push(&mut self, run: RunId, row: csv::StringRecord) {
         self.lines.push(self.rows.len() + 2);
         self.rows.push(row);
