@@ -18,8 +18,9 @@ pub fn map_large_blocks() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     if std::env::var_os("MALLOC_MMAP_THRESHOLD_").is_none() {
         // SAFETY: `mallopt` sets a parameter of the allocator and has no other
-        // precondition; no other thread is allocating yet. One of the workspace's three
-        // unsafe blocks (the others: `prefetch` and the AVX2 walk).
+        // precondition; no other thread is allocating yet. One of the workspace's four
+        // unsafe blocks (the others: `prefetch`, the AVX2 walk and the SSE2 filter of few
+        // robots).
         #[allow(unsafe_code, reason = "setting a parameter of the C allocator")]
         unsafe {
             libc::mallopt(libc::M_MMAP_THRESHOLD, 2 << 20);

@@ -33,7 +33,8 @@ use super::{IndexPoint, SpatialIndex, SpatialOrder};
 /// A swarm of at most [`FEW_ROBOTS`] robots is answered without the index, robot by
 /// robot: a walk through a grid costs more than testing a dozen robots. Each candidate
 /// blocker is first tested by a filter on the same vectors the exact predicate computes
-/// (never rejecting a blocker), then by the predicate itself: the same answers.
+/// (never rejecting a blocker; in the plane two robots at a time, their coordinates kept
+/// axis by axis), then by the predicate itself: the same answers.
 pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::Index> {
     positions: Vec<P>,
     index: I,
@@ -47,6 +48,8 @@ pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::I
     /// Few robots: bit `j` set when robot `j` is alone (no other within `eps_pos`),
     /// found for all at once on first use.
     alone_few: OnceLock<u32>,
+    /// Few robots in the plane: their coordinates, axis by axis.
+    lanes: Option<Lanes>,
 }
 
 /// The most robots a sight answers without its index (measured: docs/performance.md).
@@ -58,8 +61,8 @@ pub struct IndexedSight<P: IndexPoint, I: SpatialIndex<P> = <P as IndexPoint>::I
 /// ```
 pub const FEW_ROBOTS: usize = 16;
 
-// Which of few robots are alone is one bit each.
-const _: () = assert!(FEW_ROBOTS < 32);
+// Which of few robots are alone is one bit each; their lanes are rows of two.
+const _: () = assert!(FEW_ROBOTS < 32 && FEW_ROBOTS.is_multiple_of(2));
 
 /// Whether `r` may block the view from `p` to `q` (else [`blocks`] is certainly false):
 /// a filter on the vectors `blocks` computes, for point robots and `eps_ang < 0.5`.
@@ -74,6 +77,100 @@ fn may_block<P: IndexPoint>(p: P, r: P, q: P, eps_ang: f64) -> bool {
     let (dr, dq) = (r - p, q - p);
     let (c, bound) = (dr.cross_norm(dq), 2.0 * eps_ang * dr.dot(dq));
     c <= bound || c.is_nan() || bound.is_nan()
+}
+
+/// Few robots in the plane, their coordinates axis by axis, two robots to a row (zeros
+/// past the last robot): [`may_block`] for two robots at a time.
+#[derive(Clone, Copy, Debug)]
+struct Lanes {
+    x: [[f64; 2]; FEW_ROBOTS / 2],
+    y: [[f64; 2]; FEW_ROBOTS / 2],
+}
+
+impl Lanes {
+    /// The lanes of `positions` if a sight over them is answered without its index
+    /// ([`few`]) and they lie in the plane.
+    fn of<P: IndexPoint>(positions: &[P], vision: &VisionParams) -> Option<Lanes> {
+        if P::DIM != 2 || !few(positions, vision) {
+            return None;
+        }
+        let mut lanes = Lanes {
+            x: [[0.0; 2]; FEW_ROBOTS / 2],
+            y: [[0.0; 2]; FEW_ROBOTS / 2],
+        };
+        for (k, r) in positions.iter().enumerate() {
+            lanes.x[k / 2][k % 2] = r.axis(0);
+            lanes.y[k / 2][k % 2] = r.axis(1);
+        }
+        Some(lanes)
+    }
+
+    /// Bit `k` set where robot `k` of the first `n` [`may_block`] the view from `p` to
+    /// `q`: the same vectors and products as `may_block` (`r - p`, `q - p`, the cross
+    /// product's norm and the dot product, as glam computes them, in the same order),
+    /// so the same bits.
+    fn may_block<P: IndexPoint>(&self, n: usize, p: P, q: P, eps_ang: f64) -> u32 {
+        let (px, py) = (p.axis(0), p.axis(1));
+        let (qx, qy) = (q.axis(0) - px, q.axis(1) - py);
+        let two_eps = 2.0 * eps_ang;
+        let mut maybe = 0u32;
+        for row in 0..n.div_ceil(2).min(FEW_ROBOTS / 2) {
+            let (xs, ys) = (&self.x[row], &self.y[row]);
+            maybe |= pair_may_block(xs, ys, (px, py), (qx, qy), two_eps) << (2 * row);
+        }
+        maybe & ((1 << n) - 1)
+    }
+}
+
+/// [`may_block`] for two robots (coordinates `xs`, `ys`) seen from `p` towards `p + dq`,
+/// `two_eps` twice the angular tolerance: bit `l` for robot `l`. Both at once in SSE2's
+/// two double-precision lanes, each lane's arithmetic the scalar one's.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn pair_may_block(
+    xs: &[f64; 2],
+    ys: &[f64; 2],
+    p: (f64, f64),
+    dq: (f64, f64),
+    two_eps: f64,
+) -> u32 {
+    // SAFETY: SSE2 is part of every x86_64 CPU (the target's baseline), all these
+    // intrinsics need; the loads read the two elements of `xs` and `ys`. One of the
+    // workspace's four unsafe blocks (the others: `prefetch`, the AVX2 walk and the C
+    // allocator's threshold set in the command line).
+    #[allow(unsafe_code, reason = "SSE2 intrinsics, in the x86_64 baseline")]
+    unsafe {
+        use std::arch::x86_64::*;
+        let rx = _mm_sub_pd(_mm_loadu_pd(xs.as_ptr()), _mm_set1_pd(p.0));
+        let ry = _mm_sub_pd(_mm_loadu_pd(ys.as_ptr()), _mm_set1_pd(p.1));
+        let (qx, qy) = (_mm_set1_pd(dq.0), _mm_set1_pd(dq.1));
+        let no_sign = _mm_set1_pd(f64::from_bits(!(1 << 63)));
+        let cross = _mm_and_pd(_mm_sub_pd(_mm_mul_pd(rx, qy), _mm_mul_pd(ry, qx)), no_sign);
+        let dot = _mm_add_pd(_mm_mul_pd(rx, qx), _mm_mul_pd(ry, qy));
+        let bound = _mm_mul_pd(_mm_set1_pd(two_eps), dot);
+        // Not greater: also where either side is NaN, as `may_block`.
+        _mm_movemask_pd(_mm_cmpngt_pd(cross, bound)) as u32
+    }
+}
+
+/// [`may_block`] for two robots (the x86_64 version's arithmetic, one robot at a time).
+#[cfg(not(target_arch = "x86_64"))]
+#[inline(always)]
+fn pair_may_block(
+    xs: &[f64; 2],
+    ys: &[f64; 2],
+    p: (f64, f64),
+    dq: (f64, f64),
+    two_eps: f64,
+) -> u32 {
+    let mut bits = 0;
+    for l in 0..2 {
+        let (rx, ry) = (xs[l] - p.0, ys[l] - p.1);
+        let cross = ((rx * dq.1) - (ry * dq.0)).abs();
+        let bound = two_eps * ((rx * dq.0) + (ry * dq.1));
+        bits |= u32::from(cross <= bound || cross.is_nan() || bound.is_nan()) << l;
+    }
+    bits
 }
 
 /// Whether a sight over `positions` is answered without its index: few robots, seen as
@@ -97,6 +194,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
             index: I::new(&positions),
             few: few(&positions, &vision),
             alone_few: OnceLock::new(),
+            lanes: Lanes::of(&positions, &vision),
             positions,
             hull: OnceLock::new(),
             vision,
@@ -119,6 +217,7 @@ impl<P: IndexPoint, I: SpatialIndex<P>> IndexedSight<P, I> {
             index,
             few: few(&positions, &vision),
             alone_few: OnceLock::new(),
+            lanes: Lanes::of(&positions, &vision),
             positions,
             hull: OnceLock::new(),
             vision,
@@ -177,10 +276,12 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
             // The filter over every robot without a branch (a bit each), then the
             // predicate for the few it lets through.
             let v = &self.vision;
-            let mut maybe = 0u32;
-            for (k, &r) in self.positions.iter().enumerate() {
-                maybe |= u32::from(may_block(p, r, q, v.eps_ang)) << k;
-            }
+            let mut maybe = match &self.lanes {
+                Some(lanes) => lanes.may_block(self.positions.len(), p, q, v.eps_ang),
+                None => (self.positions.iter().enumerate()).fold(0, |m, (k, &r)| {
+                    m | u32::from(may_block(p, r, q, v.eps_ang)) << k
+                }),
+            };
             maybe &= !(1 << i | 1 << j);
             while maybe != 0 {
                 let k = maybe.trailing_zeros() as usize;
@@ -268,5 +369,64 @@ impl<P: IndexPoint, I: SpatialIndex<P>> Sight<P> for IndexedSight<P, I> {
     fn visible_points(&self, i: usize) -> Vec<usize> {
         self.index
             .visible_points(&self.positions, &self.vision, i, &|j| self.sees(i, j))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+    use monoculus_core::rng::Stream;
+
+    /// Two robots at a time give the bits of [`may_block`] one robot at a time, to the
+    /// bit: random, lattice and collinear robots, robots on the observer and on the
+    /// robot looked at, NaN, for every count of robots and tolerance.
+    #[test]
+    fn lanes_filter_as_one_robot_at_a_time() {
+        let mut stream = Stream::new(5, 0, 0, 0);
+        let mut sets: Vec<Vec<DVec2>> = Vec::new();
+        for _ in 0..200 {
+            let scale = 10f64.powi(stream.below(7) as i32 - 3);
+            sets.push(
+                (0..FEW_ROBOTS)
+                    .map(|_| DVec2::new(stream.uniform(), stream.uniform()) * scale)
+                    .collect(),
+            );
+        }
+        sets.push(
+            (0..FEW_ROBOTS)
+                .map(|k| DVec2::new((k % 4) as f64, (k / 4) as f64))
+                .collect(),
+        );
+        sets.push(
+            (0..FEW_ROBOTS)
+                .map(|k| DVec2::splat(k as f64 * 0.1))
+                .collect(),
+        );
+        let mut with_nan = sets[0].clone();
+        with_nan[3] = DVec2::new(f64::NAN, 1.0);
+        sets.push(with_nan);
+        let mut passed = 0;
+        for eps_ang in [0.0, 1e-9, 1e-3, 0.49] {
+            let vision = VisionParams {
+                eps_ang,
+                ..VisionParams::default()
+            };
+            for set in &sets {
+                for n in 1..=FEW_ROBOTS {
+                    let pts = &set[..n];
+                    let lanes = Lanes::of(pts, &vision).expect("few robots in the plane");
+                    for (i, j) in [(0, n - 1), (n / 2, 0), (n - 1, n / 3)] {
+                        let (p, q) = (pts[i], pts[j]);
+                        let one_at_a_time = (pts.iter().enumerate()).fold(0, |m, (k, &r)| {
+                            m | u32::from(may_block(p, r, q, eps_ang)) << k
+                        });
+                        assert_eq!(lanes.may_block(n, p, q, eps_ang), one_at_a_time);
+                        passed += (one_at_a_time & !(1 << i | 1 << j)).count_ones();
+                    }
+                }
+            }
+        }
+        assert!(passed > 100, "robots pass the filter: {passed}");
     }
 }

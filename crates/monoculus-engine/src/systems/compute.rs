@@ -276,6 +276,12 @@ fn decide_batched<P: IndexPoint, S: Sight<P>, A: Algorithm>(
     let mut robots = robots
         .iter_mut()
         .filter(|(robot, ..)| holds(bits, robot.index as usize));
+    if count < FEW {
+        for mut item in robots {
+            decide_item(params, round, view, &mut item);
+        }
+        return;
+    }
     let mut items: Vec<RobotItem<'_, P, A>> = Vec::with_capacity(count.min(BATCH));
     loop {
         items.clear();
@@ -283,16 +289,10 @@ fn decide_batched<P: IndexPoint, S: Sight<P>, A: Algorithm>(
         if items.is_empty() {
             break;
         }
-        if items.len() < FEW {
-            for item in &mut items {
-                decide_item(params, round, view, item);
-            }
-        } else {
-            items
-                .par_iter_mut()
-                .with_min_len(32)
-                .for_each(|item| decide_item(params, round, view, item));
-        }
+        items
+            .par_iter_mut()
+            .with_min_len(32)
+            .for_each(|item| decide_item(params, round, view, item));
     }
 }
 

@@ -56,8 +56,9 @@ pub fn measure_committed<P: IndexPoint>(
     hull: Res<HullVertices<P>>,
     mut tally: ResMut<Tally>,
     robots: Query<(&Robot, &Activated, &Intent<P>)>,
+    mut pts: Local<Vec<P>>,
 ) {
-    let mut pts: Vec<P> = Vec::new();
+    pts.clear();
     for (robot, active, intent) in &robots {
         if let (true, Some(d), true) = (active.0, intent.0, params.is_correct(robot.index as usize))
         {

@@ -5,8 +5,9 @@
 pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: prefetching is a hint that never faults, here on a valid reference. One of
-    // the workspace's three unsafe blocks (the others call the AVX2 walk once the CPU is
-    // known to have it and set the C allocator's threshold in the command line);
+    // the workspace's four unsafe blocks (the others call the AVX2 walk once the CPU is
+    // known to have it, filter the lines of sight of few robots with SSE2 and set the C
+    // allocator's threshold in the command line);
     // `unsafe_code = "deny"` everywhere else.
     #[allow(
         unsafe_code,

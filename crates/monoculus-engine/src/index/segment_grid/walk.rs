@@ -28,8 +28,9 @@ impl SegmentGrid {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked just above), all `blocked_avx2` needs. One
-            // of the workspace's three unsafe blocks (the others: `prefetch` and the C
-            // allocator's threshold set in the command line).
+            // of the workspace's four unsafe blocks (the others: `prefetch`, the SSE2
+            // filter of few robots and the C allocator's threshold set in the command
+            // line).
             #[allow(
                 unsafe_code,
                 reason = "calling code compiled for a detected CPU feature"
