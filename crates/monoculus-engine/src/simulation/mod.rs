@@ -25,8 +25,8 @@ use crate::resources::{
     SnapshotSight, Tally,
 };
 use crate::systems::{
-    KeptBy, MemoryOf, RoundSet, activate_robots, advance_clock, apply_moves, compute_intents,
-    decide_one, measure_committed, measure_shape, refresh_snapshot, take_snapshot,
+    KeptBy, MemoryOf, RoundSet, activate_robots, compute_intents, decide_one, measure_round,
+    move_round, refresh_snapshot, take_snapshot,
 };
 use crate::{
     AsyncStart, EngineError, Goal, IndexPoint, MAX_MAGNITUDE, MAX_ROBOTS, SchedulerSpec,

@@ -104,11 +104,7 @@ pub(super) fn wire_rounds<P: IndexPoint, A: Algorithm>(schedule: &mut Schedule, 
         activate_robots.in_set(RoundSet::Activate),
         take_snapshot::<P>.in_set(RoundSet::Look),
         compute_intents::<P, A>.in_set(RoundSet::Compute),
-        (measure_committed::<P>, apply_moves::<P>)
-            .chain()
-            .in_set(RoundSet::Move),
-        (measure_shape::<P>, advance_clock)
-            .chain()
-            .in_set(RoundSet::Measure),
+        move_round::<P>.in_set(RoundSet::Move),
+        measure_round::<P>.in_set(RoundSet::Measure),
     ));
 }

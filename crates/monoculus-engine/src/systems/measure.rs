@@ -34,6 +34,30 @@ pub fn measure_shape<P: IndexPoint>(
     mut hull: ResMut<HullVertices<P>>,
     mut tally: ResMut<Tally>,
 ) {
+    shape_after_moves(&params, &positions, &mut shape, &mut hull, &mut tally);
+}
+
+/// The Measure phase as the round's schedule runs it: [`measure_shape`], then
+/// [`advance_clock`], in one system (each system a round runs costs its dispatch and
+/// its resources' fetching again, a sizeable part of a round of a few robots).
+pub(crate) fn measure_round<P: IndexPoint>(
+    params: Res<Params>,
+    positions: Res<Positions<P>>,
+    (mut shape, mut hull): (ResMut<Shape>, ResMut<HullVertices<P>>),
+    mut tally: ResMut<Tally>,
+    mut clock: ResMut<Clock>,
+) {
+    shape_after_moves(&params, &positions, &mut shape, &mut hull, &mut tally);
+    clock.round += 1;
+}
+
+fn shape_after_moves<P: IndexPoint>(
+    params: &Params,
+    positions: &Positions<P>,
+    shape: &mut Shape,
+    hull: &mut HullVertices<P>,
+    tally: &mut Tally,
+) {
     if tally.round_moves == 0 {
         return;
     }
@@ -41,7 +65,7 @@ pub fn measure_shape<P: IndexPoint>(
     hull.vertices = P::hull_vertices(&correct);
     hull.generation = positions.generation;
     let mut measured = Shape::of_hull(&correct, &hull.vertices);
-    record_hull(&mut tally, &shape, &mut measured);
+    record_hull(tally, shape, &mut measured);
     *shape = measured;
 }
 
@@ -58,8 +82,56 @@ pub fn measure_committed<P: IndexPoint>(
     robots: Query<(&Robot, &Activated, &Intent<P>)>,
     mut pts: Local<Vec<P>>,
 ) {
+    let before = Before {
+        params: &params,
+        positions: &positions,
+        shape: &shape,
+        hull: &hull,
+    };
+    committed_growth(before, &robots, &mut tally, &mut pts);
+}
+
+/// The Move phase as the round's schedule runs it: [`measure_committed`], then
+/// [`apply_moves`](super::apply_moves), in one system (see [`measure_round`]).
+pub(crate) fn move_round<P: IndexPoint>(
+    (params, shape, hull): (Res<Params>, Res<Shape>, Res<HullVertices<P>>),
+    mut positions: ResMut<Positions<P>>,
+    mut tally: ResMut<Tally>,
+    robots: Query<(&Robot, &Activated, &Intent<P>)>,
+    mut pts: Local<Vec<P>>,
+) {
+    let before = Before {
+        params: &params,
+        positions: &positions,
+        shape: &shape,
+        hull: &hull,
+    };
+    committed_growth(before, &robots, &mut tally, &mut pts);
+    super::movement::apply(&params, &robots, &mut positions, &mut tally);
+}
+
+/// What the committed hull is measured against: the configuration before the moves.
+#[derive(Clone, Copy)]
+struct Before<'a, P: IndexPoint> {
+    params: &'a Params,
+    positions: &'a Positions<P>,
+    shape: &'a Shape,
+    hull: &'a HullVertices<P>,
+}
+
+fn committed_growth<P: IndexPoint>(
+    Before {
+        params,
+        positions,
+        shape,
+        hull,
+    }: Before<'_, P>,
+    robots: &Query<(&Robot, &Activated, &Intent<P>)>,
+    tally: &mut Tally,
+    pts: &mut Vec<P>,
+) {
     pts.clear();
-    for (robot, active, intent) in &robots {
+    for (robot, active, intent) in robots {
         if let (true, Some(d), true) = (active.0, intent.0, params.is_correct(robot.index as usize))
         {
             pts.push(positions.points[robot.index as usize] + d);
@@ -79,7 +151,7 @@ pub fn measure_committed<P: IndexPoint>(
     } else {
         pts.extend_from_slice(&hull.vertices);
     }
-    if hull_grew(shape.hull, P::hull_measure(&pts)) {
+    if hull_grew(shape.hull, P::hull_measure(pts)) {
         tally.committed_hull_growth += 1;
     }
 }

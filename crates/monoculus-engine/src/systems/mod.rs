@@ -21,6 +21,7 @@ pub use look::{build_sight, refresh_snapshot, take_snapshot};
 pub use measure::{
     HULL_GROWTH_TOLERANCE, advance_clock, hull_grew, measure_committed, measure_shape, record_hull,
 };
+pub(crate) use measure::{measure_round, move_round};
 pub use movement::apply_moves;
 
 /// The phases of a round, run in this order.

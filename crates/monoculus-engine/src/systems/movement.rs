@@ -12,8 +12,18 @@ pub fn apply_moves<P: IndexPoint>(
     mut positions: ResMut<Positions<P>>,
     mut tally: ResMut<Tally>,
 ) {
+    apply(&params, &robots, &mut positions, &mut tally);
+}
+
+/// [`apply_moves`]' work, for the systems that run it with others.
+pub(super) fn apply<P: IndexPoint>(
+    params: &Params,
+    robots: &Query<(&Robot, &Activated, &Intent<P>)>,
+    positions: &mut Positions<P>,
+    tally: &mut Tally,
+) {
     let (mut activated, mut moved, mut any) = (0u64, 0u64, false);
-    for (robot, active, intent) in &robots {
+    for (robot, active, intent) in robots {
         if !active.0 {
             continue;
         }
