@@ -123,9 +123,8 @@ impl Lanes {
 }
 
 /// [`may_block`] for two robots (coordinates `xs`, `ys`) seen from `p` towards `p + dq`,
-/// `two_eps` twice the angular tolerance: bit `l` for robot `l`. Both at once in SSE2's
-/// two double-precision lanes, each lane's arithmetic the scalar one's.
-#[cfg(target_arch = "x86_64")]
+/// `two_eps` twice the angular tolerance: bit `l` for robot `l`. On x86_64 both at once
+/// in SSE2's two double-precision lanes, each lane's arithmetic the scalar one's.
 #[inline(always)]
 fn pair_may_block(
     xs: &[f64; 2],
@@ -138,6 +137,7 @@ fn pair_may_block(
     // intrinsics need; the loads read the two elements of `xs` and `ys`. One of the
     // workspace's four unsafe blocks (the others: `prefetch`, the AVX2 walk and the C
     // allocator's threshold set in the command line).
+    #[cfg(target_arch = "x86_64")]
     #[allow(unsafe_code, reason = "SSE2 intrinsics, in the x86_64 baseline")]
     unsafe {
         use std::arch::x86_64::*;
@@ -151,26 +151,13 @@ fn pair_may_block(
         // Not greater: also where either side is NaN, as `may_block`.
         _mm_movemask_pd(_mm_cmpngt_pd(cross, bound)) as u32
     }
-}
-
-/// [`may_block`] for two robots (the x86_64 version's arithmetic, one robot at a time).
-#[cfg(not(target_arch = "x86_64"))]
-#[inline(always)]
-fn pair_may_block(
-    xs: &[f64; 2],
-    ys: &[f64; 2],
-    p: (f64, f64),
-    dq: (f64, f64),
-    two_eps: f64,
-) -> u32 {
-    let mut bits = 0;
-    for l in 0..2 {
+    #[cfg(not(target_arch = "x86_64"))]
+    (0..2).fold(0, |bits, l| {
         let (rx, ry) = (xs[l] - p.0, ys[l] - p.1);
         let cross = ((rx * dq.1) - (ry * dq.0)).abs();
         let bound = two_eps * ((rx * dq.0) + (ry * dq.1));
-        bits |= u32::from(cross <= bound || cross.is_nan() || bound.is_nan()) << l;
-    }
-    bits
+        bits | u32::from(cross <= bound || cross.is_nan() || bound.is_nan()) << l
+    })
 }
 
 /// Whether a sight over `positions` is answered without its index: few robots, seen as

@@ -82,13 +82,9 @@ pub fn measure_committed<P: IndexPoint>(
     robots: Query<(&Robot, &Activated, &Intent<P>)>,
     mut pts: Local<Vec<P>>,
 ) {
-    let before = Before {
-        params: &params,
-        positions: &positions,
-        shape: &shape,
-        hull: &hull,
-    };
-    committed_growth(before, &robots, &mut tally, &mut pts);
+    if committed_grew((&params, &positions), (&shape, &hull), &robots, &mut pts) {
+        tally.committed_hull_growth += 1;
+    }
 }
 
 /// The Move phase as the round's schedule runs it: [`measure_committed`], then
@@ -100,36 +96,20 @@ pub(crate) fn move_round<P: IndexPoint>(
     robots: Query<(&Robot, &Activated, &Intent<P>)>,
     mut pts: Local<Vec<P>>,
 ) {
-    let before = Before {
-        params: &params,
-        positions: &positions,
-        shape: &shape,
-        hull: &hull,
-    };
-    committed_growth(before, &robots, &mut tally, &mut pts);
+    if committed_grew((&params, &positions), (&shape, &hull), &robots, &mut pts) {
+        tally.committed_hull_growth += 1;
+    }
     super::movement::apply(&params, &robots, &mut positions, &mut tally);
 }
 
-/// What the committed hull is measured against: the configuration before the moves.
-#[derive(Clone, Copy)]
-struct Before<'a, P: IndexPoint> {
-    params: &'a Params,
-    positions: &'a Positions<P>,
-    shape: &'a Shape,
-    hull: &'a HullVertices<P>,
-}
-
-fn committed_growth<P: IndexPoint>(
-    Before {
-        params,
-        positions,
-        shape,
-        hull,
-    }: Before<'_, P>,
+/// Whether the hull of the correct robots' positions and decided destinations grew
+/// from the hull measured before the moves (`pts` a buffer for the points).
+fn committed_grew<P: IndexPoint>(
+    (params, positions): (&Params, &Positions<P>),
+    (shape, hull): (&Shape, &HullVertices<P>),
     robots: &Query<(&Robot, &Activated, &Intent<P>)>,
-    tally: &mut Tally,
     pts: &mut Vec<P>,
-) {
+) -> bool {
     pts.clear();
     for (robot, active, intent) in robots {
         if let (true, Some(d), true) = (active.0, intent.0, params.is_correct(robot.index as usize))
@@ -144,16 +124,14 @@ fn committed_growth<P: IndexPoint>(
     // sequence, so the same area to the bit; tested in `monoculus_core::geometry`).
     pts.retain(|&d| !P::strictly_inside(&hull.vertices, d));
     if pts.is_empty() {
-        return;
+        return false;
     }
     if hull.vertices.is_empty() {
         pts.extend_from_slice(&params.correct(&positions.points));
     } else {
         pts.extend_from_slice(&hull.vertices);
     }
-    if hull_grew(shape.hull, P::hull_measure(pts)) {
-        tally.committed_hull_growth += 1;
-    }
+    hull_grew(shape.hull, P::hull_measure(pts))
 }
 
 /// Advances the round counter.
