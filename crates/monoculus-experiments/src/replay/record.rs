@@ -242,86 +242,167 @@ fn record_in<P: IndexPoint>(
     title: String,
     limits: Limits,
 ) -> Result<Replay, EngineError> {
-    let config = cell.sim_config(seed);
     let initial: Vec<P> = cell.initial_positions(seed);
-    let n = initial.len();
-    let drawn = Drawn::of(n, &limits);
-    let sample = drawn.sample;
-    let kind = cell.algorithm();
-    let record_looks = sample == 1 && n <= limits.max_look_robots;
-    let mut notes = Vec::new();
-    if config.model.errors.any() {
-        notes.push(
-            "Looks are shown as the robots' exact senses; the run's observation errors are not drawn"
-                .to_string(),
+    let mut recording = Recording::new(cell, seed, &initial, title, limits);
+    let mut sim = Simulation::<P>::new(cell.sim_config(seed), initial)?;
+    let outcome = sim.run_observed(|sim| recording.observe(sim));
+    Ok(recording.finish(&mut sim, Some(&outcome)))
+}
+
+/// A run recorded while something else drives it: [`observe`](Self::observe) after
+/// every step the simulation takes (and once at its start), then
+/// [`finish`](Self::finish). [`record`] is this over a whole run; the Python package's
+/// `Simulation.replay()` drives it step by step as the simulation was.
+///
+/// ```
+/// use std::path::Path;
+///
+/// use glam::DVec2;
+/// use monoculus_engine::Simulation;
+/// use monoculus_experiments::replay::{Limits, Recording};
+/// use monoculus_experiments::{Experiment, Registry};
+///
+/// let text = "name = \"doc\"\nseeds = [3]\n[swarm]\nn = 6\nside = 4.0\n\
+///             init = \"square\"\n[algorithm]\nname = \"converge_locality\"\n";
+/// let exp = Experiment::parse(text, "doc", Path::new("."), &[], &Registry::builtin()).unwrap();
+/// let cell = &exp.cells[0];
+/// let start: Vec<DVec2> = cell.initial_positions(3);
+/// let mut recording = Recording::new(cell, 3, &start, "doc".into(), Limits::default());
+/// let mut sim = Simulation::new(cell.sim_config(3), start).unwrap();
+/// recording.observe(&sim);
+/// for _ in 0..2 {
+///     sim.step();
+///     recording.observe(&sim);
+/// }
+/// let replay = recording.finish(&mut sim, None);
+/// assert_eq!(replay.frames.len(), 3);
+/// assert!(replay.outcome.starts_with("stepped 2 rounds"));
+/// ```
+pub struct Recording<P: IndexPoint> {
+    rec: Recorder<P>,
+}
+
+impl<P: IndexPoint> Recording<P> {
+    /// Begins the replay of a run of `cell` with `seed` from `initial` (the positions
+    /// the simulation starts from: the cell's, or any others).
+    pub fn new(cell: &Cell, seed: u64, initial: &[P], title: String, limits: Limits) -> Self {
+        let config = cell.sim_config(seed);
+        let n = initial.len();
+        let drawn = Drawn::of(n, &limits);
+        let sample = drawn.sample;
+        let kind = cell.algorithm();
+        let record_looks = sample == 1 && n <= limits.max_look_robots;
+        let mut notes = Vec::new();
+        if config.model.errors.any() {
+            notes.push(
+                "Looks are shown as the robots' exact senses; the run's observation errors are not drawn"
+                    .to_string(),
+            );
+        }
+        notes.extend(drawn.note(n));
+        let ticks = matches!(config.scheduler, monoculus_engine::SchedulerSpec::Async(_));
+        let subtitle = format!(
+            "{}, {} scheduler, {n} robots in {}D, b = {}, c = {}",
+            kind.name(),
+            scheduler_name(cell),
+            P::DIM,
+            config.model.step,
+            config.model.locality
         );
+        let replay = Replay {
+            ticks,
+            model: kind.model().name(),
+            locality: config.model.locality,
+            termination: kind.shows_bits(),
+            lights: kind.lights().to_vec(),
+            looks_note: (!record_looks).then(|| {
+                format!(
+                    "Looks are recorded for runs of at most {} robots, all drawn",
+                    limits.max_look_robots
+                )
+            }),
+            notes,
+            ..Replay::begin(title, subtitle, initial, &drawn)
+        };
+        let rec = Recorder {
+            replay,
+            drawn,
+            record_looks,
+            vision: config.vision,
+            previous: None,
+            budget: limits.max_bytes,
+            bytes: 0,
+            steps: 0,
+            pinned: Vec::new(),
+            epochs: 0,
+            max_rows: limits.max_metric_rows.max(1),
+            row_cap: limits.max_metric_rows.max(1),
+        };
+        Recording { rec }
     }
-    notes.extend(drawn.note(n));
-    let ticks = matches!(config.scheduler, monoculus_engine::SchedulerSpec::Async(_));
-    let subtitle = format!(
-        "{}, {} scheduler, {n} robots in {}D, b = {}, c = {}",
-        kind.name(),
-        scheduler_name(cell),
-        P::DIM,
-        config.model.step,
-        config.model.locality
-    );
-    let replay = Replay {
-        ticks,
-        model: kind.model().name(),
-        locality: config.model.locality,
-        termination: kind.shows_bits(),
-        lights: kind.lights().to_vec(),
-        looks_note: (!record_looks).then(|| {
-            format!(
-                "Looks are recorded for runs of at most {} robots, all drawn",
-                limits.max_look_robots
-            )
-        }),
-        notes,
-        ..Replay::begin(title, subtitle, &initial, &drawn)
-    };
-    let mut rec = Recorder {
-        replay,
-        drawn,
-        record_looks,
-        vision: config.vision,
-        previous: None,
-        budget: limits.max_bytes,
-        bytes: 0,
-        steps: 0,
-        pinned: Vec::new(),
-        epochs: 0,
-        max_rows: limits.max_metric_rows.max(1),
-        row_cap: limits.max_metric_rows.max(1),
-    };
-    let mut sim = Simulation::<P>::new(config, initial)?;
-    let outcome = sim.run_observed(|sim| rec.after_step(sim));
-    rec.finish(&sim);
-    let mut replay = rec.replay;
-    replay.outcome = outcome_line(&outcome, ticks);
-    replay.verdict = verdict(&outcome);
-    if replay.stride > 1 {
-        replay.notes.push(format!(
-            "every {} {} kept as a frame (and the last); metrics for every {}",
-            ordinal(replay.stride),
-            if ticks { "event tick" } else { "round" },
-            if replay.metrics.stride > 1 {
-                "epoch"
-            } else if ticks {
-                "event tick"
-            } else {
-                "round"
+
+    /// Records `sim` as it is now: call it once before the first step and after every
+    /// step ([`Simulation::run_observed`] calls its observer so).
+    pub fn observe(&mut self, sim: &Simulation<P>) {
+        self.rec.after_step(sim);
+    }
+
+    /// The replay. `outcome` is the run's, if it ran to its end; `None` for a run only
+    /// stepped so far, whose verdict is then what a run ending now would get
+    /// (`stepped 12 rounds; converged now; ...`).
+    pub fn finish(mut self, sim: &mut Simulation<P>, outcome: Option<&RunOutcome>) -> Replay {
+        self.rec.finish(sim);
+        let mut replay = self.rec.replay;
+        let ticks = replay.ticks;
+        match outcome {
+            Some(o) => {
+                replay.outcome = outcome_line(o, ticks);
+                replay.verdict = verdict(o);
             }
-        ));
+            None => {
+                let stop = sim.criterion_met_now();
+                let goal = sim.goal_holds_now();
+                let (v, now) = match stop {
+                    Some(_) if goal => ("converged", "converged now"),
+                    Some(monoculus_engine::StoppedBy::Quiescent) => {
+                        ("stuck", "stuck now: quiescent short of its goal")
+                    }
+                    _ => ("not converged", "the run goes on"),
+                };
+                let (_, diameter) = sim.shape();
+                replay.verdict = v;
+                replay.outcome = format!(
+                    "stepped {} {}; {now}; {} moves; diameter {diameter:.4}",
+                    sim.rounds_done(),
+                    if ticks { "epochs" } else { "rounds" },
+                    sim.world()
+                        .resource::<monoculus_engine::resources::Tally>()
+                        .moves,
+                );
+            }
+        }
+        if replay.stride > 1 {
+            replay.notes.push(format!(
+                "every {} {} kept as a frame (and the last); metrics for every {}",
+                ordinal(replay.stride),
+                if ticks { "event tick" } else { "round" },
+                if replay.metrics.stride > 1 {
+                    "epoch"
+                } else if ticks {
+                    "event tick"
+                } else {
+                    "round"
+                }
+            ));
+        }
+        if replay.metrics.stride > 1 {
+            replay.notes.push(format!(
+                "metrics kept for every tick that ends an epoch or shows a frame, and every {} other event tick",
+                ordinal(replay.metrics.stride)
+            ));
+        }
+        replay
     }
-    if replay.metrics.stride > 1 {
-        replay.notes.push(format!(
-            "metrics kept for every tick that ends an epoch or shows a frame, and every {} other event tick",
-            ordinal(replay.metrics.stride)
-        ));
-    }
-    Ok(replay)
 }
 
 /// The run's verdict and outcome, one line: `converged after 12 rounds; ...`, `stuck
