@@ -7,6 +7,7 @@ mod algorithm;
 mod convert;
 mod declare;
 mod observation;
+mod replay;
 mod simulation;
 mod threads;
 
@@ -271,6 +272,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_algorithm, m)?)?;
     m.add_function(wrap_pyfunction!(algorithm_table, m)?)?;
     m.add_function(wrap_pyfunction!(hunt, m)?)?;
+    m.add_function(wrap_pyfunction!(replay::replay, m)?)?;
+    m.add_class::<replay::ReplayData>()?;
     m.add_class::<simulation::Simulation>()?;
     m.add_class::<observation::Rng>()?;
     m.add_class::<algorithm::State>()?;

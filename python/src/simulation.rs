@@ -15,11 +15,18 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::algorithm::Errors;
+use crate::replay::{Advance, ReplayData, advance, limits, record_again};
 use crate::{algorithm_error, interruptible};
 
 enum Sim {
     Plane(monoculus_engine::Simulation<DVec2>),
     Space(monoculus_engine::Simulation<DVec3>),
+}
+
+/// Where a simulation started.
+enum Start {
+    Plane(Vec<DVec2>),
+    Space(Vec<DVec3>),
 }
 
 macro_rules! each {
@@ -55,6 +62,10 @@ fn points<P: IndexPoint>(positions: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<
 #[pyclass(module = "monoculus")]
 pub struct Simulation {
     sim: Option<Sim>,
+    /// Where it started, and every call that advanced it since: what `replay` records
+    /// again (a run is determined by its config, seed and start).
+    start: Start,
+    advances: Vec<Advance>,
     exp: Experiment,
     cell: usize,
     seed: u64,
@@ -104,24 +115,30 @@ impl Simulation {
             )));
         };
         let config = c.sim_config(seed);
-        let sim = match c.dim() {
+        let (sim, start) = match c.dim() {
             3 => {
                 let start = match &positions {
                     Some(p) => points::<DVec3>(p)?,
                     None => c.initial_positions(seed),
                 };
-                Sim::Space(monoculus_engine::Simulation::new(config, start).map_err(engine_error)?)
+                let sim = monoculus_engine::Simulation::new(config, start.clone())
+                    .map_err(engine_error)?;
+                (Sim::Space(sim), Start::Space(start))
             }
             _ => {
                 let start = match &positions {
                     Some(p) => points::<DVec2>(p)?,
                     None => c.initial_positions(seed),
                 };
-                Sim::Plane(monoculus_engine::Simulation::new(config, start).map_err(engine_error)?)
+                let sim = monoculus_engine::Simulation::new(config, start.clone())
+                    .map_err(engine_error)?;
+                (Sim::Plane(sim), Start::Plane(start))
             }
         };
         Ok(Simulation {
             sim: Some(sim),
+            start,
+            advances: Vec::new(),
             exp,
             cell,
             seed,
@@ -133,16 +150,8 @@ impl Simulation {
     /// Advances one round (ASYNC: one epoch).
     fn step(&mut self, py: Python<'_>) -> PyResult<()> {
         let sim = self.sim()?;
-        py.detach(|| {
-            each!(sim, s => match s.async_progress() {
-                None => s.step(),
-                Some((_, epochs)) => {
-                    while s.async_progress().is_some_and(|(_, e)| e == epochs) && s.failure().is_none() {
-                        s.step();
-                    }
-                }
-            })
-        });
+        py.detach(|| each!(sim, s => advance(s, Advance::Step, |_| {})));
+        self.advances.push(Advance::Step);
         let failure = each!(self.sim()?, s => s.failure());
         if let Some(f) = failure {
             return Err(algorithm_error(
@@ -176,6 +185,7 @@ impl Simulation {
         });
         let (sim, outcome) = result?;
         self.sim = Some(sim);
+        self.advances.push(Advance::Run(max_rounds));
         self.failed(py, &outcome)?;
         let cell = &self.exp.cells[self.cell];
         let ms = self.started.elapsed().as_secs_f64() * 1e3;
@@ -275,6 +285,30 @@ impl Simulation {
     #[getter]
     fn hull_area(&mut self) -> PyResult<f64> {
         Ok(each!(self.sim()?, s => s.shape().0))
+    }
+
+    /// The replay of this simulation so far: the run recorded again from its start
+    /// through the same steps and runs (the same run, bit for bit).
+    #[pyo3(signature = (max_drawn, max_mb))]
+    fn replay(&mut self, py: Python<'_>, max_drawn: usize, max_mb: usize) -> PyResult<ReplayData> {
+        self.sim()?;
+        let limits = limits(max_drawn, max_mb)?;
+        let cell = &self.exp.cells[self.cell];
+        let key = if cell.key.is_empty() {
+            String::new()
+        } else {
+            format!(", {}", cell.key.replace(';', ", "))
+        };
+        let title = format!(
+            "{}{key}, seed {}, stepped from Python",
+            self.exp.name, self.seed
+        );
+        let (seed, advances) = (self.seed, &self.advances);
+        let recorded = py.detach(|| match &self.start {
+            Start::Plane(p) => record_again(cell, seed, p.clone(), advances, title, limits),
+            Start::Space(p) => record_again(cell, seed, p.clone(), advances, title, limits),
+        });
+        Ok(ReplayData::new(recorded.map_err(engine_error)?))
     }
 
     /// What robot `robot` sees now, as `monoculus look` prints it (CSV text).

@@ -1,6 +1,7 @@
 """The examples run headless and write their figures."""
 
 import pathlib
+import re
 import subprocess
 import sys
 
@@ -32,3 +33,12 @@ def test_the_python_converge_locality_example_runs(tmp_path):
     r = run("converge_locality.py", tmp_path)
     assert r.returncode == 0, r.stderr
     assert "py_converge_locality" in r.stdout
+
+
+def test_every_example_is_run_by_a_test():
+    tests = "".join(p.read_text() for p in pathlib.Path(__file__).parent.glob("test_*.py"))
+    for example in sorted(EXAMPLES.iterdir()):
+        if example.suffix in (".py", ".ipynb"):
+            imported = re.search(rf"^import {example.stem}\b", tests, flags=re.M)
+            named = f'"{example.name}"' in tests or imported
+            assert named, f"examples/python/{example.name} is run by no test"

@@ -6,7 +6,10 @@ The Rust engine of the `monoculus` command line, with a Python face:
   :class:`pandas.DataFrame` of ``runs.csv``'s rows, and into a results folder if asked;
 - :class:`Simulation` steps one run, with its positions as numpy arrays;
 - :func:`algorithm` turns a Python function into an algorithm that every scheduler,
-  error model and fault model runs, in the plane and in space.
+  error model and fault model runs, in the plane and in space;
+- :func:`replay` records a run as a :class:`Replay`, shown inline in Jupyter, saved as
+  the replay page or a GIF; :meth:`Simulation.replay` does so for a stepped run;
+- :func:`plot` draws ``monoculus plot``'s figures from a DataFrame with matplotlib.
 
 See ``docs/python.md`` in the repository.
 """
@@ -23,16 +26,22 @@ import pandas as pd
 
 from . import _native
 from ._native import AlgorithmError, ConfigError, Rng, State
+from ._plot import plot
+from ._replay import HuntResult, Replay
 
 __all__ = [
     "AlgorithmError",
     "ConfigError",
+    "HuntResult",
+    "Replay",
     "Rng",
     "State",
     "Simulation",
     "algorithm",
     "algorithms",
     "hunt",
+    "plot",
+    "replay",
     "run",
 ]
 
@@ -192,7 +201,7 @@ def hunt(
     out: Optional[Union[str, "os.PathLike[str]"]] = None,
     threads: Optional[int] = None,
     cell: Optional[int] = None,
-) -> dict[str, Any]:
+) -> HuntResult:
     """Searches for a counterexample to the config's ``[hunt]`` property, shrinks it and
     writes it, as ``monoculus hunt`` does.
 
@@ -206,10 +215,14 @@ def hunt(
     :func:`run`), ``replay.html`` and ``summary.json``. Algorithms declared with
     :func:`algorithm` can be hunted. Ctrl-C stops the hunt, keeping its best candidate
     in ``out`` marked as not shrunk, and raises ``KeyboardInterrupt``.
+
+    The result is a :class:`HuntResult`, a dict with the counterexample's replay as
+    ``result.replay`` (a :class:`Replay` of ``reproduce.toml``, ``None`` if no run
+    completed); in Jupyter it shows the summary and that replay.
     """
     import json
 
-    def hunt_into(folder: str) -> dict[str, Any]:
+    def hunt_into(folder: str) -> HuntResult:
         text = _native.hunt(_config(config), set, folder, threads, _declared(), cell)
         summary: dict[str, Any] = json.loads(text)
         if summary["failures"]:
@@ -227,7 +240,13 @@ def hunt(
             if os.path.exists(path)
             else None
         )
-        return summary
+        reproduce = os.path.join(folder, "reproduce.toml")
+        shown = (
+            Replay(_native.replay(reproduce, None, 0, None, _declared(), 20_000, 30))
+            if os.path.exists(reproduce)
+            else None
+        )
+        return HuntResult(summary, shown)
 
     if out is not None:
         folder = os.fspath(out)
@@ -238,6 +257,28 @@ def hunt(
         summary = hunt_into(folder)
         summary["out"] = None
         return summary
+
+
+def replay(
+    config: _Config,
+    seed: int = 0,
+    cell: int = 0,
+    set: _Set = None,
+    max_drawn: int = 20_000,
+    max_mb: int = 30,
+) -> Replay:
+    """Records one run of ``config``'s cell ``cell`` with ``seed`` (as for
+    :class:`Simulation`), as ``monoculus replay --cell CELL --seed SEED`` does: the same
+    run as :func:`run` makes of that cell and seed.
+
+    Returns a :class:`Replay`: in Jupyter it shows the replay page inline (play, step,
+    zoom, click a robot for its Look; lights in their colours); ``.save("run.html")``
+    writes the page, ``.gif("run.gif")`` the animation. ``config`` and ``set`` as for
+    :func:`run`; ``max_drawn`` and ``max_mb`` as ``--max-drawn`` and ``--max-mb``.
+    """
+    return Replay(
+        _native.replay(_config(config), seed, cell, set, _declared(), max_drawn, max_mb)
+    )
 
 
 def _value(text: str) -> Any:
@@ -350,6 +391,14 @@ class Simulation:
     def hull_area(self) -> float:
         """The area (3D: volume) of the swarm's convex hull now."""
         return self._sim.hull_area
+
+    def replay(self, max_drawn: int = 20_000, max_mb: int = 30) -> Replay:
+        """The replay of this simulation so far, as :func:`replay` gives for a run: a
+        frame at its start (its own ``positions`` if it was given them) and after
+        every round (ASYNC: every event tick) it was stepped or run. The run is recorded
+        again from its start through the same calls (the same run, bit for bit), so it
+        costs about what stepping it did."""
+        return Replay(self._sim.replay(max_drawn, max_mb))
 
     def look(self, robot: int) -> pd.DataFrame:
         """What ``robot`` sees now, as ``monoculus look`` prints it: one row per visible
