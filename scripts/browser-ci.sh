@@ -6,6 +6,8 @@
 # file says. Every Chromium the tests start gets a profile folder under one scratch
 # folder; whatever happened, any Chromium still running from it is stopped at the end and
 # the folder removed. Runs locally as in CI (as root; Chromium runs with --no-sandbox).
+# The tour notebook's check opens target/python-ci/tour.html, which scripts/python-ci.sh
+# writes (run it first).
 #
 # Usage: scripts/browser-ci.sh
 set -euo pipefail
@@ -38,6 +40,11 @@ trap cleanup EXIT
 export MONOCULUS_CHROMIUM
 MONOCULUS_CHROMIUM=$(command -v chromium)
 export MONOCULUS_BROWSER_TMP=$SCRATCH
+export MONOCULUS_TOUR_HTML="$PWD/target/python-ci/tour.html"
+if [[ ! -f $MONOCULUS_TOUR_HTML ]]; then
+  log "no $MONOCULUS_TOUR_HTML: run scripts/python-ci.sh first (it executes and exports the tour notebook)"
+  exit 1
+fi
 # The same build as `cargo test --workspace`: nothing is compiled again.
 cargo test --workspace --test browser -- --ignored --test-threads=1
 log "passed"

@@ -5,202 +5,21 @@
 //! These tests need Chromium, so `cargo test` skips them (ignored); `scripts/browser-ci.sh`
 //! installs Debian's `chromium` and runs them (`.ci/run` calls it after the tests):
 //!     cargo test -p monoculus-cli --test browser -- --ignored
-//! The browser is found as `$MONOCULUS_CHROMIUM`, else `chromium` on the PATH.
+//! The browser is found as `$MONOCULUS_CHROMIUM`, else `chromium` on the PATH. The
+//! last test opens the tour notebook as executed and exported by scripts/python-ci.sh
+//! (`$MONOCULUS_TOUR_HTML`).
 
+#[path = "common/chromium.rs"]
+mod chromium;
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::path::Path;
 
+use chromium::{Browser, is_robot};
 use common::ok;
 
 fn configs(name: &str) -> String {
     format!("{}/../../configs/{name}", env!("CARGO_MANIFEST_DIR"))
-}
-
-/// One headless Chromium, each call a fresh process with its own profile folder under
-/// `dir` (killed if it outlives its deadline).
-struct Browser {
-    exe: PathBuf,
-    dir: tempfile::TempDir,
-    runs: std::cell::Cell<usize>,
-}
-
-impl Browser {
-    fn new() -> Browser {
-        let exe = std::env::var_os("MONOCULUS_CHROMIUM")
-            .map(PathBuf::from)
-            .or_else(|| {
-                std::env::var_os("PATH").and_then(|paths| {
-                    std::env::split_paths(&paths)
-                        .map(|p| p.join("chromium"))
-                        .find(|p| p.is_file())
-                })
-            })
-            .expect(
-                "no Chromium: set MONOCULUS_CHROMIUM or install it (scripts/browser-ci.sh does)",
-            );
-        let base = std::env::var_os("MONOCULUS_BROWSER_TMP").map(PathBuf::from);
-        let dir = match base {
-            Some(b) => tempfile::tempdir_in(b).unwrap(),
-            None => tempfile::tempdir().unwrap(),
-        };
-        Browser {
-            exe,
-            dir,
-            runs: std::cell::Cell::new(0),
-        }
-    }
-
-    /// Runs Chromium on `url` with `extra` arguments; its standard output.
-    fn run(&self, url: &str, extra: &[String]) -> String {
-        let k = self.runs.get();
-        self.runs.set(k + 1);
-        let profile = self.dir.path().join(format!("profile-{k}"));
-        let mut child = Command::new(&self.exe)
-            .args([
-                "--headless=new",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--no-first-run",
-                "--hide-scrollbars",
-                "--force-device-scale-factor=1",
-                "--virtual-time-budget=5000",
-            ])
-            .arg(format!("--user-data-dir={}", profile.display()))
-            .args(extra)
-            .arg(url)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("chromium starts");
-        let deadline = Instant::now() + Duration::from_secs(90);
-        let mut stdout = child.stdout.take().unwrap();
-        let reader = std::thread::spawn(move || {
-            let mut s = String::new();
-            std::io::Read::read_to_string(&mut stdout, &mut s).ok();
-            s
-        });
-        loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                assert!(status.success(), "chromium failed on {url}: {status}");
-                break;
-            }
-            if Instant::now() > deadline {
-                child.kill().ok();
-                child.wait().ok();
-                panic!("chromium did not finish on {url} within 90 s");
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        reader.join().unwrap()
-    }
-
-    /// The page's body attributes after its script ran: `data-status`, `data-time`...
-    fn body(&self, url: &str) -> Body {
-        let dom = self.run(url, &["--dump-dom".to_string()]);
-        let start = dom.find("<body").expect("a body in the DOM");
-        let tag = &dom[start..start + dom[start..].find('>').unwrap()];
-        let attr = |name: &str| {
-            let key = format!("{name}=\"");
-            tag.find(&key).map(|i| {
-                let rest = &tag[i + key.len()..];
-                rest[..rest.find('"').unwrap()].to_string()
-            })
-        };
-        Body {
-            status: attr("data-status").unwrap_or_default(),
-            time: attr("data-time"),
-            frame: attr("data-frame"),
-            error: attr("data-error"),
-            dom,
-        }
-    }
-
-    /// A screenshot of the window (`w` x `h` pixels) as RGB rows.
-    fn screenshot(&self, url: &str, w: u32, h: u32) -> Shot {
-        let png = self
-            .dir
-            .path()
-            .join(format!("shot-{}.png", self.runs.get()));
-        self.run(
-            url,
-            &[
-                format!("--window-size={w},{h}"),
-                format!("--screenshot={}", png.display()),
-            ],
-        );
-        let decoder = png::Decoder::new(std::io::BufReader::new(
-            std::fs::File::open(&png).expect("chromium wrote the screenshot"),
-        ));
-        let mut reader = decoder.read_info().unwrap();
-        let mut buf = vec![0; reader.output_buffer_size()];
-        let info = reader.next_frame(&mut buf).unwrap();
-        let channels = info.color_type.samples();
-        Shot {
-            width: info.width,
-            height: info.height,
-            channels,
-            data: buf[..info.buffer_size()].to_vec(),
-        }
-    }
-}
-
-struct Body {
-    status: String,
-    time: Option<String>,
-    frame: Option<String>,
-    error: Option<String>,
-    dom: String,
-}
-
-impl Body {
-    fn ready(&self, what: &str) {
-        assert_eq!(self.error, None, "{what}: script error");
-        assert_eq!(self.status, "ready", "{what}: the page did not finish");
-    }
-}
-
-struct Shot {
-    width: u32,
-    height: u32,
-    channels: usize,
-    data: Vec<u8>,
-}
-
-impl Shot {
-    fn rgb(&self, x: u32, y: u32) -> [u8; 3] {
-        let i = (y as usize * self.width as usize + x as usize) * self.channels;
-        [self.data[i], self.data[i + 1], self.data[i + 2]]
-    }
-
-    /// Pixels of the canvas (`w` x `h` at the top left) in a robot colour.
-    fn robot_pixels(&self, w: u32, h: u32) -> usize {
-        let mut n = 0;
-        for y in 0..h.min(self.height) {
-            for x in 0..w.min(self.width) {
-                if is_robot(self.rgb(x, y)) {
-                    n += 1;
-                }
-            }
-        }
-        n
-    }
-}
-
-/// The page's robot colours (idle, stays, computing, moving; in space also by depth).
-const ROBOT: [[u8; 3]; 4] = [
-    [0x6b, 0x72, 0x80],
-    [0x25, 0x63, 0xeb],
-    [0xd9, 0x77, 0x06],
-    [0xdc, 0x26, 0x26],
-];
-
-fn is_robot(c: [u8; 3]) -> bool {
-    ROBOT
-        .iter()
-        .any(|r| r.iter().zip(&c).all(|(a, b)| a.abs_diff(*b) <= 6))
 }
 
 fn url(page: &Path, hash: &str) -> String {
@@ -532,5 +351,39 @@ fn a_luminous_replay_colours_each_robot_by_its_light_and_shows_what_it_saw() {
         right * 10 >= frame.lights.len() * 8,
         "{right} of {} robots in their light's colour",
         frame.lights.len()
+    );
+}
+
+/// The page of `html` with scripts blocked in every inline replay's frame: the page's
+/// static parts show, its canvas stays blank.
+fn without_scripts(html: &str) -> String {
+    html.replace("sandbox=\"allow-scripts\"", "sandbox=\"\"")
+}
+
+#[test]
+#[ignore = "needs headless Chromium and the executed tour notebook: scripts/browser-ci.sh"]
+fn the_tour_notebook_s_replays_draw_inside_it() {
+    let exported = std::env::var_os("MONOCULUS_TOUR_HTML").expect(
+        "MONOCULUS_TOUR_HTML: the tour notebook exported as HTML (scripts/python-ci.sh writes it)",
+    );
+    let html = std::fs::read_to_string(&exported).expect("the exported notebook");
+    let frames = html.matches("<iframe class=\"monoculus-replay\"").count();
+    assert_eq!(frames, 2, "the stepped simulation's replay and the hunt's");
+    assert_eq!(html.matches("sandbox=\"allow-scripts\"").count(), 2);
+    let tmp = tempfile::tempdir().unwrap();
+    let (live, still) = (tmp.path().join("tour.html"), tmp.path().join("still.html"));
+    std::fs::write(&live, &html).unwrap();
+    std::fs::write(&still, without_scripts(&html)).unwrap();
+    // The whole notebook in one tall window, once as exported and once with the
+    // replays' scripts blocked: the robots the replay pages draw are the difference.
+    let browser = Browser::new();
+    let (w, h) = (1200, 7000);
+    let robots = |page: &Path| browser.screenshot(&url(page, ""), w, h).robot_pixels(w, h);
+    let (drawn, static_parts) = (robots(&live), robots(&still));
+    // Six robots of the stepped simulation and the hunt's few, a disc of tens of pixels
+    // each, and what the scripts colour around them (about 2,300 pixels in all here).
+    assert!(
+        drawn >= static_parts + 500,
+        "robot pixels: {drawn} with the replays' scripts, {static_parts} without"
     );
 }
