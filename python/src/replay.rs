@@ -2,9 +2,12 @@
 //! (`monoculus replay`'s HTML) and its GIF.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-use monoculus_experiments::replay::{Limits, Recording, Replay as Recorded, record};
+use glam::{DVec2, DVec3};
+
+use monoculus_experiments::replay::{Limits, Recording, Replay as Recorded};
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -116,7 +119,7 @@ impl ReplayData {
 }
 
 /// Records one run of `config`'s cell `cell` with `seed` (default: the config's first),
-/// as `monoculus replay` does.
+/// as `monoculus replay` does; Ctrl-C stops it (`KeyboardInterrupt`).
 #[pyfunction]
 #[pyo3(signature = (config, seed, cell, set, algorithms, max_drawn, max_mb))]
 #[allow(clippy::too_many_arguments)]
@@ -147,9 +150,33 @@ pub(crate) fn replay(
         format!(", {}", c.key.replace(';', ", "))
     };
     let title = format!("{}{key}, seed {seed}", exp.name);
-    let recorded = py
-        .detach(|| record(c, seed, title, limits))
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let flag = interrupt.clone();
+    let recorded = crate::interruptible(py, interrupt, move || {
+        let c = &exp.cells[cell];
+        let whole = [Advance::Run(None)];
+        match c.dim() {
+            3 => record_again::<DVec3>(
+                c,
+                seed,
+                c.initial_positions(seed),
+                &whole,
+                title,
+                limits,
+                flag,
+            ),
+            _ => record_again::<DVec2>(
+                c,
+                seed,
+                c.initial_positions(seed),
+                &whole,
+                title,
+                limits,
+                flag,
+            ),
+        }
+    })?
+    .map_err(|e| PyValueError::new_err(e.to_string()))?;
     if let Some(cause) = errors.lock().unwrap_or_else(|p| p.into_inner()).take() {
         let err = crate::convert::AlgorithmError::new_err(format!(
             "the run failed: {}",
@@ -211,7 +238,9 @@ pub(crate) fn advance<P: monoculus_engine::IndexPoint>(
     }
 }
 
-/// Records a simulation again: from `start`, the `advances` it was given, in order.
+/// Records a simulation again: from `start`, the `advances` it was given, in order
+/// (`[Advance::Run(None)]`: a whole run, as `record` makes it). Setting `interrupt`
+/// stops it at the end of a round.
 pub(crate) fn record_again<P: monoculus_engine::IndexPoint>(
     cell: &monoculus_experiments::Cell,
     seed: u64,
@@ -219,14 +248,16 @@ pub(crate) fn record_again<P: monoculus_engine::IndexPoint>(
     advances: &[Advance],
     title: String,
     limits: Limits,
+    interrupt: Arc<AtomicBool>,
 ) -> Result<Recorded, monoculus_engine::EngineError> {
     let mut recording = Recording::new(cell, seed, &start, title, limits);
     let mut sim = monoculus_engine::Simulation::new(cell.sim_config(seed), start)?;
+    sim.set_interrupt(interrupt.clone());
     recording.observe(&sim);
     let mut outcome = None;
     for &a in advances {
         outcome = advance(&mut sim, a, |s| recording.observe(s));
-        if sim.failure().is_some() {
+        if sim.failure().is_some() || interrupt.load(Ordering::Relaxed) {
             break;
         }
     }

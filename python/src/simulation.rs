@@ -24,6 +24,7 @@ enum Sim {
 }
 
 /// Where a simulation started.
+#[derive(Clone)]
 enum Start {
     Plane(Vec<DVec2>),
     Space(Vec<DVec3>),
@@ -288,12 +289,12 @@ impl Simulation {
     }
 
     /// The replay of this simulation so far: the run recorded again from its start
-    /// through the same steps and runs (the same run, bit for bit).
+    /// through the same steps and runs (the same run, bit for bit); Ctrl-C stops it.
     #[pyo3(signature = (max_drawn, max_mb))]
     fn replay(&mut self, py: Python<'_>, max_drawn: usize, max_mb: usize) -> PyResult<ReplayData> {
         self.sim()?;
         let limits = limits(max_drawn, max_mb)?;
-        let cell = &self.exp.cells[self.cell];
+        let cell = self.exp.cells[self.cell].clone();
         let key = if cell.key.is_empty() {
             String::new()
         } else {
@@ -303,11 +304,14 @@ impl Simulation {
             "{}{key}, seed {}, stepped from Python",
             self.exp.name, self.seed
         );
-        let (seed, advances) = (self.seed, &self.advances);
-        let recorded = py.detach(|| match &self.start {
-            Start::Plane(p) => record_again(cell, seed, p.clone(), advances, title, limits),
-            Start::Space(p) => record_again(cell, seed, p.clone(), advances, title, limits),
-        });
+        let (seed, advances) = (self.seed, self.advances.clone());
+        let start = self.start.clone();
+        let interrupt = Arc::new(AtomicBool::new(false));
+        let flag = interrupt.clone();
+        let recorded = interruptible(py, interrupt, move || match start {
+            Start::Plane(p) => record_again(&cell, seed, p, &advances, title, limits, flag),
+            Start::Space(p) => record_again(&cell, seed, p, &advances, title, limits, flag),
+        })?;
         Ok(ReplayData::new(recorded.map_err(engine_error)?))
     }
 

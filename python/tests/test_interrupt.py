@@ -43,3 +43,34 @@ def test_ctrl_c_stops_the_sweep_and_the_folder_resumes(tmp_path):
     after = pd.read_csv(runs)
     assert len(after) == 400
     pd.testing.assert_frame_equal(after.iloc[: len(before)], before)
+
+
+REPLAY = """
+import sys, monoculus
+config = {"name": "long", "swarm": {"n": 1500, "init": "square", "side": 400.0},
+          "algorithm": {"name": "converge_locality"}}
+if sys.argv[1] == "simulation":
+    sim = monoculus.Simulation(config)
+    sim.run(max_rounds=300)
+print("started", flush=True)
+try:
+    if sys.argv[1] == "replay":
+        monoculus.replay(config)
+    else:
+        sim.replay()
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted")
+"""
+
+
+def test_ctrl_c_stops_a_replay_being_recorded():
+    for how in ("replay", "simulation"):
+        p = subprocess.Popen([sys.executable, "-c", REPLAY, how], stdout=subprocess.PIPE, text=True)
+        assert p.stdout.readline().strip() == "started"
+        time.sleep(1.5)
+        sent = time.time()
+        p.send_signal(signal.SIGINT)
+        stdout, _ = p.communicate(timeout=60)
+        assert time.time() - sent < 10, f"{how}: took too long to stop"
+        assert stdout.strip() == "interrupted", how
