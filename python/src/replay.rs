@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 
 use glam::{DVec2, DVec3};
 
-use monoculus_experiments::replay::{Limits, Recording, Replay as Recorded};
+use monoculus_experiments::replay::{Limits, Recording, Replay as Recorded, title};
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -144,37 +144,13 @@ pub(crate) fn replay(
         )));
     };
     let seed = seed.unwrap_or(exp.seeds[0]);
-    let key = if c.key.is_empty() {
-        String::new()
-    } else {
-        format!(", {}", c.key.replace(';', ", "))
-    };
-    let title = format!("{}{key}, seed {seed}", exp.name);
+    let heading = title(&exp.name, c, seed);
+    let start = Start::of(c, seed);
     let interrupt = Arc::new(AtomicBool::new(false));
     let flag = interrupt.clone();
     let recorded = crate::interruptible(py, interrupt, move || {
-        let c = &exp.cells[cell];
         let whole = [Advance::Run(None)];
-        match c.dim() {
-            3 => record_again::<DVec3>(
-                c,
-                seed,
-                c.initial_positions(seed),
-                &whole,
-                title,
-                limits,
-                flag,
-            ),
-            _ => record_again::<DVec2>(
-                c,
-                seed,
-                c.initial_positions(seed),
-                &whole,
-                title,
-                limits,
-                flag,
-            ),
-        }
+        record_again(&exp.cells[cell], seed, start, &whole, heading, limits, flag)
     })?
     .map_err(|e| PyValueError::new_err(e.to_string()))?;
     if let Some(cause) = errors.lock().unwrap_or_else(|p| p.into_inner()).take() {
@@ -186,6 +162,23 @@ pub(crate) fn replay(
         return Err(err);
     }
     Ok(ReplayData::new(recorded))
+}
+
+/// Where a simulation starts: the plane's points or space's.
+#[derive(Clone)]
+pub(crate) enum Start {
+    Plane(Vec<DVec2>),
+    Space(Vec<DVec3>),
+}
+
+impl Start {
+    /// The start the config gives `cell` with `seed`.
+    pub(crate) fn of(cell: &monoculus_experiments::Cell, seed: u64) -> Start {
+        match cell.dim() {
+            3 => Start::Space(cell.initial_positions(seed)),
+            _ => Start::Plane(cell.initial_positions(seed)),
+        }
+    }
 }
 
 /// One call that advanced a stepped simulation.
@@ -241,7 +234,22 @@ pub(crate) fn advance<P: monoculus_engine::IndexPoint>(
 /// Records a simulation again: from `start`, the `advances` it was given, in order
 /// (`[Advance::Run(None)]`: a whole run, as `record` makes it). Setting `interrupt`
 /// stops it at the end of a round.
-pub(crate) fn record_again<P: monoculus_engine::IndexPoint>(
+pub(crate) fn record_again(
+    cell: &monoculus_experiments::Cell,
+    seed: u64,
+    start: Start,
+    advances: &[Advance],
+    title: String,
+    limits: Limits,
+    interrupt: Arc<AtomicBool>,
+) -> Result<Recorded, monoculus_engine::EngineError> {
+    match start {
+        Start::Plane(p) => record_from(cell, seed, p, advances, title, limits, interrupt),
+        Start::Space(p) => record_from(cell, seed, p, advances, title, limits, interrupt),
+    }
+}
+
+fn record_from<P: monoculus_engine::IndexPoint>(
     cell: &monoculus_experiments::Cell,
     seed: u64,
     start: Vec<P>,

@@ -15,19 +15,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::algorithm::Errors;
-use crate::replay::{Advance, ReplayData, advance, limits, record_again};
+use crate::replay::{Advance, ReplayData, Start, advance, limits, record_again};
 use crate::{algorithm_error, interruptible};
+use monoculus_experiments::replay::title;
 
 enum Sim {
     Plane(monoculus_engine::Simulation<DVec2>),
     Space(monoculus_engine::Simulation<DVec3>),
-}
-
-/// Where a simulation started.
-#[derive(Clone)]
-enum Start {
-    Plane(Vec<DVec2>),
-    Space(Vec<DVec3>),
 }
 
 macro_rules! each {
@@ -295,22 +289,16 @@ impl Simulation {
         self.sim()?;
         let limits = limits(max_drawn, max_mb)?;
         let cell = self.exp.cells[self.cell].clone();
-        let key = if cell.key.is_empty() {
-            String::new()
-        } else {
-            format!(", {}", cell.key.replace(';', ", "))
-        };
-        let title = format!(
-            "{}{key}, seed {}, stepped from Python",
-            self.exp.name, self.seed
+        let heading = format!(
+            "{}, stepped from Python",
+            title(&self.exp.name, &cell, self.seed)
         );
         let (seed, advances) = (self.seed, self.advances.clone());
         let start = self.start.clone();
         let interrupt = Arc::new(AtomicBool::new(false));
         let flag = interrupt.clone();
-        let recorded = interruptible(py, interrupt, move || match start {
-            Start::Plane(p) => record_again(&cell, seed, p, &advances, title, limits, flag),
-            Start::Space(p) => record_again(&cell, seed, p, &advances, title, limits, flag),
+        let recorded = interruptible(py, interrupt, move || {
+            record_again(&cell, seed, start, &advances, heading, limits, flag)
         })?;
         Ok(ReplayData::new(recorded.map_err(engine_error)?))
     }

@@ -5,7 +5,7 @@ use monoculus_experiments::output::{Paths, unique_stems};
 use monoculus_experiments::positions::{
     check_trace_matches, read_trace_positions, trace_of_positions,
 };
-use monoculus_experiments::replay::{Limits, Replay, from_trace, record};
+use monoculus_experiments::replay::{Limits, Replay, from_trace, record, title};
 
 use super::{Failure, check_paths, pick_cell, thread_pool};
 
@@ -155,14 +155,9 @@ pub fn replay(args: ReplayArgs, registry: &monoculus_experiments::Registry) -> R
     check_paths(&paths)?;
     let pool = thread_pool(args.threads)?;
     for (k, cell) in cells.into_iter().enumerate() {
-        let key = if cell.key.is_empty() {
-            String::new()
-        } else {
-            format!(", {}", cell.key.replace(';', ", "))
-        };
-        let title = format!("{}{key}, seed {seed}", exp.name);
+        let heading = title(&exp.name, cell, seed);
         let replay = pool
-            .install(|| record(cell, seed, title, limits))
+            .install(|| record(cell, seed, heading, limits))
             .map_err(|e| Failure::Input(format!("{}: {e}", args.source.display())))?;
         write(
             &replay,

@@ -15,7 +15,7 @@
 mod record;
 mod trace;
 
-pub use record::{Recording, outcome_line, record, verdict};
+pub use record::{Recording, outcome_line, record, title, verdict};
 pub use trace::from_trace;
 
 use glam::DVec2;

@@ -11,6 +11,29 @@ use super::{
 };
 use crate::Cell;
 
+/// The title of a replay of `cell` (of the experiment `name`) with `seed`: `vs-n,
+/// swarm.n=10, algorithm.name=converge_locality, seed 3` (the cell's swept values, if
+/// any), as `monoculus replay` shows it.
+///
+/// ```
+/// use std::path::Path;
+///
+/// use monoculus_experiments::replay::title;
+/// use monoculus_experiments::{Experiment, Registry};
+///
+/// let text = "name = \"t\"\n[swarm]\nn = [4, 6]\ninit = \"square\"\n\
+///             [algorithm]\nname = \"converge_locality\"\n";
+/// let exp = Experiment::parse(text, "t", Path::new("."), &[], &Registry::builtin()).unwrap();
+/// assert_eq!(title(&exp.name, &exp.cells[1], 3), "t, swarm.n=6, seed 3");
+/// ```
+pub fn title(name: &str, cell: &Cell, seed: u64) -> String {
+    if cell.key.is_empty() {
+        format!("{name}, seed {seed}")
+    } else {
+        format!("{name}, {}, seed {seed}", cell.key.replace(';', ", "))
+    }
+}
+
 /// Records one run of `cell` with `seed`.
 pub fn record(
     cell: &Cell,
