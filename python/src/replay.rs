@@ -2,12 +2,12 @@
 //! (`monoculus replay`'s HTML) and its GIF.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
 use glam::{DVec2, DVec3};
 
-use monoculus_experiments::replay::{Limits, Recording, Replay as Recorded, title};
+use monoculus_experiments::replay::{Advance, Limits, Replay as Recorded, record_advances, title};
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -181,56 +181,6 @@ impl Start {
     }
 }
 
-/// One call that advanced a stepped simulation.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Advance {
-    /// `step()`: a round (ASYNC: the ticks of an epoch).
-    Step,
-    /// `run(max_rounds)`.
-    Run(Option<u64>),
-}
-
-/// Advances `sim` as `advance` says, `on_step` seeing it after every step it takes; the
-/// outcome of a `run`.
-pub(crate) fn advance<P: monoculus_engine::IndexPoint>(
-    sim: &mut monoculus_engine::Simulation<P>,
-    advance: Advance,
-    mut on_step: impl FnMut(&monoculus_engine::Simulation<P>),
-) -> Option<monoculus_engine::RunOutcome> {
-    match advance {
-        Advance::Step => {
-            match sim.async_progress() {
-                None => {
-                    sim.step();
-                    on_step(sim);
-                }
-                Some((_, epochs)) => {
-                    while sim.async_progress().is_some_and(|(_, e)| e == epochs)
-                        && sim.failure().is_none()
-                    {
-                        sim.step();
-                        on_step(sim);
-                    }
-                }
-            }
-            None
-        }
-        Advance::Run(max_rounds) => {
-            if let Some(m) = max_rounds {
-                sim.set_max_rounds(m);
-            }
-            // `run_observed` first shows the state it starts from, seen already.
-            let mut started = false;
-            Some(sim.run_observed(|s| {
-                if started {
-                    on_step(s);
-                }
-                started = true;
-            }))
-        }
-    }
-}
-
 /// Records a simulation again: from `start`, the `advances` it was given, in order
 /// (`[Advance::Run(None)]`: a whole run, as `record` makes it). Setting `interrupt`
 /// stops it at the end of a round.
@@ -244,30 +194,7 @@ pub(crate) fn record_again(
     interrupt: Arc<AtomicBool>,
 ) -> Result<Recorded, monoculus_engine::EngineError> {
     match start {
-        Start::Plane(p) => record_from(cell, seed, p, advances, title, limits, interrupt),
-        Start::Space(p) => record_from(cell, seed, p, advances, title, limits, interrupt),
+        Start::Plane(p) => record_advances(cell, seed, p, advances, title, limits, interrupt),
+        Start::Space(p) => record_advances(cell, seed, p, advances, title, limits, interrupt),
     }
-}
-
-fn record_from<P: monoculus_engine::IndexPoint>(
-    cell: &monoculus_experiments::Cell,
-    seed: u64,
-    start: Vec<P>,
-    advances: &[Advance],
-    title: String,
-    limits: Limits,
-    interrupt: Arc<AtomicBool>,
-) -> Result<Recorded, monoculus_engine::EngineError> {
-    let mut recording = Recording::new(cell, seed, &start, title, limits);
-    let mut sim = monoculus_engine::Simulation::new(cell.sim_config(seed), start)?;
-    sim.set_interrupt(interrupt.clone());
-    recording.observe(&sim);
-    let mut outcome = None;
-    for &a in advances {
-        outcome = advance(&mut sim, a, |s| recording.observe(s));
-        if sim.failure().is_some() || interrupt.load(Ordering::Relaxed) {
-            break;
-        }
-    }
-    Ok(recording.finish(&mut sim, outcome.as_ref()))
 }

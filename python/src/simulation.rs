@@ -15,9 +15,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::algorithm::Errors;
-use crate::replay::{Advance, ReplayData, Start, advance, limits, record_again};
+use crate::replay::{ReplayData, Start, limits, record_again};
 use crate::{algorithm_error, interruptible};
 use monoculus_experiments::replay::title;
+use monoculus_experiments::replay::{Advance, advance};
 
 enum Sim {
     Plane(monoculus_engine::Simulation<DVec2>),

@@ -39,7 +39,7 @@ pub(crate) struct Setup<'a, P: IndexPoint> {
 /// An algorithm erased for one dimension.
 pub(crate) trait Install<P: IndexPoint>: Send + Sync {
     /// Spawns the robots, inserts the algorithm and wires its systems.
-    fn install(&self, setup: Setup<'_, P>) -> Hooks;
+    fn install(&self, setup: Setup<'_, P>) -> Hooks<P>;
     /// Spawns the robots and inserts the algorithm into a world whose schedule is wired
     /// for this algorithm's type already (a run started again: [`Simulation::restart`](crate::Simulation::restart)).
     fn reinstall(&self, setup: Setup<'_, P>);
@@ -50,7 +50,7 @@ pub(crate) trait Install<P: IndexPoint>: Send + Sync {
 struct Held<A>(Arc<A>);
 
 impl<P: IndexPoint, A: Algorithm> Install<P> for Held<A> {
-    fn install(&self, setup: Setup<'_, P>) -> Hooks {
+    fn install(&self, setup: Setup<'_, P>) -> Hooks<P> {
         crate::simulation::install::<P, A>(self.0.clone(), setup)
     }
 

@@ -25,6 +25,32 @@ pub enum PositionsError {
     },
 }
 
+/// `points` as a positions CSV (header `x,y`, or `x,y,z` in space), every coordinate
+/// written so that it reads back to the same `f64` (a negative zero as `0`): a config
+/// with `init = "file"` starts from exactly these points.
+///
+/// ```
+/// use glam::DVec2;
+/// use monoculus_experiments::positions::{parse_positions, positions_csv};
+///
+/// let pts = [DVec2::new(0.1, -0.0), DVec2::new(1.0 / 3.0, 2.5)];
+/// let text = positions_csv(&pts);
+/// assert_eq!(text, "x,y\n0.1,0\n0.3333333333333333,2.5\n");
+/// assert_eq!(parse_positions(&text, "t").unwrap().points::<DVec2>(), pts);
+/// ```
+pub fn positions_csv<P: monoculus_core::geometry::Point>(points: &[P]) -> String {
+    let mut out = String::from(["x,y", "x,y,z"][usize::from(P::DIM == 3)]);
+    out.push('\n');
+    for p in points {
+        let row: Vec<String> = (0..P::DIM)
+            .map(|k| crate::results::num(p.axis(k) + 0.0))
+            .collect();
+        out.push_str(&row.join(","));
+        out.push('\n');
+    }
+    out
+}
+
 /// Robots read from a positions file: coordinates (z = 0 when the file has no z column).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PositionsFile {

@@ -84,6 +84,8 @@ mod trace;
 
 pub use error::PlotError;
 pub use impossibility::plot_impossibility;
-pub use replay::{light_colour, replay_html, replay_json, write_replay_gif, write_replay_html};
+pub use replay::{
+    base64, light_colour, replay_html, replay_json, write_replay_gif, write_replay_html,
+};
 pub use results::plot_results;
 pub use trace::plot_trace;

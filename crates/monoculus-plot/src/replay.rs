@@ -22,7 +22,14 @@ use crate::PlotError;
 static TEMPLATE: &str = include_str!("../assets/replay.html");
 const SLOT: &str = "/*REPLAY_DATA*/";
 
-fn base64(bytes: &[u8]) -> String {
+/// `bytes` in standard base64 with padding: how the replay page and the explorer carry
+/// arrays of numbers (the page decodes them with `atob` into typed arrays).
+///
+/// ```
+/// assert_eq!(monoculus_plot::base64(b"robots"), "cm9ib3Rz");
+/// assert_eq!(monoculus_plot::base64(&[0xff]), "/w==");
+/// ```
+pub fn base64(bytes: &[u8]) -> String {
     const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
     for chunk in bytes.chunks(3) {

@@ -16,6 +16,7 @@ macro_rules! out {
 }
 
 mod check;
+mod explore;
 mod hunt;
 mod impossibility;
 mod look;
@@ -73,6 +74,9 @@ enum Command {
     /// Search for a start (and schedule) that breaks the config's `[hunt]` property, shrink
     /// it, and write it with a config that replays it.
     Hunt(hunt::HuntArgs),
+    /// A live explorer in the browser: place robots, step them, see what each one sees
+    /// (a local server on 127.0.0.1 with a token in its address).
+    Explore(explore::ExploreArgs),
 }
 
 /// How a command failed: bad input (exit status 2), standard output gone (a closed pipe:
@@ -262,5 +266,6 @@ fn run_command(cli: Cli, registry: &Registry) -> Result<(), Failure> {
         Command::Replay(a) => replay::replay(a, registry),
         Command::Slurm(a) => slurm::slurm(a, registry),
         Command::Hunt(a) => hunt::hunt(a, registry),
+        Command::Explore(a) => explore::explore(a, registry),
     }
 }

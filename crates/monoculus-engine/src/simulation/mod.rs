@@ -214,7 +214,7 @@ pub struct Simulation<P: IndexPoint> {
     world: World,
     schedule: Schedule,
     config: SimConfig,
-    hooks: Hooks,
+    hooks: Hooks<P>,
     d_opt: f64,
     d_max: f64,
     hull_initial: f64,
@@ -369,7 +369,7 @@ impl<P: IndexPoint> Simulation<P> {
 
 /// What a run's loop asks of its algorithm, compiled for it when the run is built: plain
 /// functions of the world, so that the loop itself is the same for every algorithm.
-pub(crate) struct Hooks {
+pub(crate) struct Hooks<P> {
     /// Whether no correct robot would move if activated now.
     pub(crate) quiescent: fn(&mut World) -> bool,
     /// The robots' kept states, to be put back (`None`: the algorithm keeps none).
@@ -386,6 +386,8 @@ pub(crate) struct Hooks {
     /// The colour each robot shows to the others now (ASYNC: set by an ended Compute),
     /// by robot (empty: the algorithm has no lights).
     pub(crate) shown_lights: fn(&World) -> Vec<u8>,
+    /// What one robot would decide if activated now (states copied: nothing changes).
+    pub(crate) decide_now: fn(&mut World, usize) -> Result<Option<P>, crate::resources::RunFailure>,
 }
 
 /// The measures of a run's start.
@@ -437,7 +439,7 @@ fn systems_of(config: &SimConfig) -> Systems {
 pub(crate) fn install<P: IndexPoint, A: Algorithm>(
     algorithm: std::sync::Arc<A>,
     setup: Setup<'_, P>,
-) -> Hooks {
+) -> Hooks<P> {
     let systems = systems_of(setup.config);
     let schedule = populate::<P, A>(algorithm, setup);
     match systems {
@@ -452,6 +454,7 @@ pub(crate) fn install<P: IndexPoint, A: Algorithm>(
         shown_bits: view::shown_bits::<P, A>,
         lights: run::lights::<P, A>,
         shown_lights: view::shown_lights::<P, A>,
+        decide_now: run::decide_now::<P, A>,
     }
 }
 

@@ -70,6 +70,62 @@ pub(super) fn quiescent<P: IndexPoint, A: Algorithm>(world: &mut World) -> bool 
     quiet
 }
 
+/// What robot `robot` would decide if activated now: its global displacement (`None`:
+/// it stays), from a copy of its state, as a Look now would see the swarm (ASYNC: the
+/// movers where they are). Nothing changes: an algorithm's failure is returned, not
+/// recorded as the run's.
+pub(super) fn decide_now<P: IndexPoint, A: Algorithm>(
+    world: &mut World,
+    robot: usize,
+) -> Result<Option<P>, crate::resources::RunFailure> {
+    refresh_snapshot::<P>(world);
+    let mut params = world.resource::<Params>().clone();
+    params.failure = crate::resources::Failure::default();
+    let lights = match world.get_resource::<crate::asynchrony::Lights>() {
+        Some(l) => l.shown.clone(),
+        None => lights::<P, A>(world),
+    };
+    let mut q = world.query::<(&Robot, Option<&MemoryOf<P, A>>)>();
+    let kept: Option<KeptBy<P, A>> = q
+        .iter(world)
+        .find(|(r, _)| r.index as usize == robot)
+        .and_then(|(_, m)| m.map(|m| m.0.clone()));
+    let algorithm = world.resource::<Rule<A>>().0.clone();
+    // The random stream of its next activation: the next round's, or (ASYNC) its cycle's.
+    let round = match world.get_resource::<Clocks<P>>() {
+        Some(clocks) if world.contains_resource::<AsyncClock>() => clocks.0[robot].cycle,
+        _ => world.resource::<Clock>().round,
+    };
+    fn one<P: IndexPoint, S: Sight<P>, A: Algorithm>(
+        (params, algorithm): (&Params, &A),
+        view: (&S, &[u8]),
+        (robot, round): (usize, u64),
+        kept: Option<KeptBy<P, A>>,
+    ) -> Option<P> {
+        if algorithm.decides_together() {
+            let mut items: Vec<crate::systems::Item<P, A>> = vec![(robot, round, kept)];
+            return crate::systems::decide_items(params, algorithm, view, &mut items)[0];
+        }
+        let mut kept = kept;
+        decide_one(params, algorithm, view, robot, round, kept.as_mut())
+    }
+    let rule = (&params, &*algorithm);
+    let who = (robot, round);
+    let snapshot = world.resource::<Snapshot<P>>();
+    let decided = match snapshot.sight.as_ref().expect("snapshot refreshed") {
+        SnapshotSight::Index(s) => one(rule, (s, &lights), who, kept),
+        SnapshotSight::Exact(s) => one(rule, (s, &lights), who, kept),
+        SnapshotSight::Rtree(s) => one(rule, (s, &lights), who, kept),
+    };
+    if matches!(params.scheduler, SchedulerSpec::Async(_)) {
+        world.resource_mut::<Snapshot<P>>().sight = None;
+    }
+    match params.failure.get() {
+        Some(failure) => Err(failure),
+        None => Ok(decided),
+    }
+}
+
 /// The colour each robot's state shows (empty when `A` has no lights).
 pub(super) fn lights<P: IndexPoint, A: Algorithm>(world: &mut World) -> Vec<u8> {
     let algorithm = world.resource::<Rule<A>>().0.clone();
@@ -127,6 +183,37 @@ impl<P: IndexPoint> Simulation<P> {
     /// Whether no correct robot would move if activated now.
     pub fn is_quiescent(&mut self) -> bool {
         (self.hooks.quiescent)(&mut self.world)
+    }
+
+    /// What robot `robot` would decide if activated now: its displacement (`None`: it
+    /// stays), from a copy of its state (memory, light), as a Look now would see the
+    /// swarm (ASYNC: movers where they are on their segments), before movement errors,
+    /// with the random draws of its next activation (the next round's; ASYNC, its
+    /// cycle's): under FSYNC, the move the next step makes, bar movement errors.
+    /// Nothing changes: the run goes on as if this was never asked, and a bad decision
+    /// of the algorithm is returned rather than failing the run.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use monoculus_core::algorithms::ConvergeLocality;
+    /// use monoculus_engine::prelude::*;
+    ///
+    /// let config = SimConfig::paper(AlgorithmBox::new(ConvergeLocality), 1, 100);
+    /// let mut sim = Simulation::new(config, vec![DVec2::ZERO, DVec2::new(5.0, 0.0)]).unwrap();
+    /// let d = sim.decide_now(0).unwrap().expect("robot 0 moves toward robot 1");
+    /// assert!(d.x > 0.0 && d.y == 0.0);
+    /// sim.step();
+    /// assert!((sim.positions()[0] - d).length() < 1e-12);
+    /// ```
+    ///
+    /// # Panics
+    /// If `robot` is not a robot of the run.
+    pub fn decide_now(&mut self, robot: usize) -> Result<Option<P>, crate::resources::RunFailure> {
+        assert!(
+            robot < self.positions().len(),
+            "robot {robot}: no such robot"
+        );
+        (self.hooks.decide_now)(&mut self.world, robot)
     }
 
     /// A flag that, once set (from any thread: a signal handler, a binding's Ctrl-C),

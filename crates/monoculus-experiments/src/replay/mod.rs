@@ -12,10 +12,12 @@
 //! `stride`-th frame kept (the stride doubles whenever the frames outgrow the budget);
 //! the metrics stay exact for every step, over all robots.
 
+mod advance;
 mod record;
 mod trace;
 
-pub use record::{Recording, outcome_line, record, title, verdict};
+pub use advance::{Advance, advance, record_advances};
+pub use record::{Recording, outcome_line, record, stepped_line, title, verdict};
 pub use trace::from_trace;
 
 use glam::DVec2;

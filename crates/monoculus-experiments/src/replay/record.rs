@@ -383,25 +383,9 @@ impl<P: IndexPoint> Recording<P> {
                 replay.verdict = verdict(o);
             }
             None => {
-                let stop = sim.criterion_met_now();
-                let goal = sim.goal_holds_now();
-                let (v, now) = match stop {
-                    Some(_) if goal => ("converged", "converged now"),
-                    Some(monoculus_engine::StoppedBy::Quiescent) => {
-                        ("stuck", "stuck now: quiescent short of its goal")
-                    }
-                    _ => ("not converged", "the run goes on"),
-                };
-                let (_, diameter) = sim.shape();
+                let (v, line) = stepped_line(sim);
                 replay.verdict = v;
-                replay.outcome = format!(
-                    "stepped {} {}; {now}; {} moves; diameter {diameter:.4}",
-                    sim.rounds_done(),
-                    if ticks { "epochs" } else { "rounds" },
-                    sim.world()
-                        .resource::<monoculus_engine::resources::Tally>()
-                        .moves,
-                );
+                replay.outcome = line;
             }
         }
         if replay.stride > 1 {
@@ -426,6 +410,46 @@ impl<P: IndexPoint> Recording<P> {
         }
         replay
     }
+}
+
+/// The verdict and outcome line of a run stepped so far, not run to its end: what a run
+/// ending now would get (`converged`, `stuck` or `not converged`) and `stepped 12
+/// rounds; converged now; 30 moves; diameter 0.8000`.
+///
+/// ```
+/// use glam::DVec2;
+/// use monoculus_core::algorithms::ConvergeLocality;
+/// use monoculus_engine::prelude::*;
+/// use monoculus_experiments::replay::stepped_line;
+///
+/// let config = SimConfig::paper(AlgorithmBox::new(ConvergeLocality), 1, 100);
+/// let mut sim = Simulation::new(config, vec![DVec2::ZERO, DVec2::new(5.0, 0.0)]).unwrap();
+/// sim.step();
+/// let (verdict, line) = stepped_line(&mut sim);
+/// assert_eq!(verdict, "not converged");
+/// assert!(line.starts_with("stepped 1 rounds; the run goes on; 2 moves"));
+/// ```
+pub fn stepped_line<P: IndexPoint>(sim: &mut Simulation<P>) -> (&'static str, String) {
+    let ticks = sim.async_progress().is_some();
+    let stop = sim.criterion_met_now();
+    let goal = sim.goal_holds_now();
+    let (v, now) = match stop {
+        Some(_) if goal => ("converged", "converged now"),
+        Some(monoculus_engine::StoppedBy::Quiescent) => {
+            ("stuck", "stuck now: quiescent short of its goal")
+        }
+        _ => ("not converged", "the run goes on"),
+    };
+    let (_, diameter) = sim.shape();
+    let line = format!(
+        "stepped {} {}; {now}; {} moves; diameter {diameter:.4}",
+        sim.rounds_done(),
+        if ticks { "epochs" } else { "rounds" },
+        sim.world()
+            .resource::<monoculus_engine::resources::Tally>()
+            .moves,
+    );
+    (v, line)
 }
 
 /// The run's verdict and outcome, one line: `converged after 12 rounds; ...`, `stuck
