@@ -46,5 +46,5 @@ if [[ ! -f $MONOCULUS_TOUR_HTML ]]; then
   exit 1
 fi
 # The same build as `cargo test --workspace`: nothing is compiled again.
-cargo test --workspace --test browser -- --ignored --test-threads=1
+cargo test --workspace --test browser --test explore_browser -- --ignored --test-threads=1
 log "passed"

@@ -176,3 +176,14 @@ for name, value, met, limit in rows:
 if numpy is None:
     print("| numpy against monoculus | not measured (`pip install numpy`) | >= 100x | - |")
 PY
+
+# The explorer's play rate (docs/performance.md#the-explorer): the page playing as fast as
+# it goes in headless Chromium, where Chromium is installed (scripts/browser-ci.sh
+# installs it).
+if command -v chromium >/dev/null; then
+    for n in 10000 100000; do
+        MONOCULUS_BIN="$PWD/target/release/monoculus" MONOCULUS_EXPLORE_BENCH=$n \
+            cargo test --quiet -p monoculus-cli --test explore_browser play_rate_benchmark \
+            -- --ignored --nocapture 2>/dev/null | grep '^explore play' || true
+    done
+fi

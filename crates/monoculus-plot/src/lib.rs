@@ -85,7 +85,8 @@ mod trace;
 pub use error::PlotError;
 pub use impossibility::plot_impossibility;
 pub use replay::{
-    base64, light_colour, replay_html, replay_json, write_replay_gif, write_replay_html,
+    VIEW_JS, VIEW_SLOT, base64, light_colour, replay_html, replay_json, write_replay_gif,
+    write_replay_html,
 };
 pub use results::plot_results;
 pub use trace::plot_trace;

@@ -22,6 +22,26 @@ use crate::PlotError;
 static TEMPLATE: &str = include_str!("../assets/replay.html");
 const SLOT: &str = "/*REPLAY_DATA*/";
 
+/// The script the replay page and `monoculus explore`'s page share: the colours of robots
+/// and Look rays, the hull, the arrow of a move, the log-scale chart (it defines
+/// `window.MonoculusView`). A page includes it where it has the slot [`VIEW_SLOT`].
+///
+/// ```
+/// assert!(monoculus_plot::VIEW_JS.contains("window.MonoculusView"));
+/// assert!(!monoculus_plot::VIEW_JS.contains("</script"));
+/// ```
+pub static VIEW_JS: &str = include_str!("../assets/view.js");
+
+/// Where a page takes [`VIEW_JS`]: `<script>/*VIEW_JS*/</script>`.
+pub const VIEW_SLOT: &str = "/*VIEW_JS*/";
+
+/// The replay page's template with the shared script in place.
+fn template() -> &'static str {
+    static PAGE: std::sync::LazyLock<String> =
+        std::sync::LazyLock::new(|| TEMPLATE.replacen(VIEW_SLOT, VIEW_JS, 1));
+    &PAGE
+}
+
 /// `bytes` in standard base64 with padding: how the replay page and the explorer carry
 /// arrays of numbers (the page decodes them with `atob` into typed arrays).
 ///
@@ -251,7 +271,7 @@ pub fn replay_json(r: &Replay) -> String {
 
 /// The self-contained page of `replay`.
 pub fn replay_html(replay: &Replay) -> String {
-    TEMPLATE.replacen(SLOT, &replay_json(replay), 1)
+    template().replacen(SLOT, &replay_json(replay), 1)
 }
 
 fn io(path: &Path) -> impl Fn(std::io::Error) -> PlotError + '_ {

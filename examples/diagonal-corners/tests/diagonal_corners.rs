@@ -155,3 +155,59 @@ fn every_command_takes_it_and_threads_change_nothing() {
     let exec = script.lines().find(|l| l.starts_with("exec ")).unwrap();
     assert!(exec.starts_with(&format!("exec {} run ", bin())), "{exec}");
 }
+
+/// `diagonal-corners explore`: the explorer of this binary offers DiagonalCorners beside
+/// the paper's algorithms, and steps it.
+#[test]
+fn its_explorer_offers_and_steps_its_algorithm() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    struct Killed(std::process::Child);
+    impl Drop for Killed {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let mut child = Command::new(bin())
+        .args(["explore", "--set", "algorithm.name=diagonal_corners"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let stdout = child.stdout.take().unwrap();
+    let _child = Killed(child);
+    let mut line = String::new();
+    BufReader::new(stdout).read_line(&mut line).unwrap();
+    let url = line
+        .trim()
+        .strip_prefix("monoculus explore: ")
+        .unwrap()
+        .to_string();
+    let (base, token) = url.split_once("/?token=").unwrap();
+    let addr = base.strip_prefix("http://").unwrap().to_string();
+    // One request over a plain socket (this example keeps to its one dependency).
+    let request = |method: &str, path: &str, body: &str| -> String {
+        let mut stream = std::net::TcpStream::connect(&addr).unwrap();
+        write!(
+            stream,
+            "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nx-monoculus-token: {token}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            body.len()
+        )
+        .unwrap();
+        let mut answer = String::new();
+        stream.read_to_string(&mut answer).unwrap();
+        assert!(
+            answer.starts_with("HTTP/1.1 200"),
+            "{method} {path}: {answer}"
+        );
+        answer
+    };
+    let setup = request("GET", "/api/setup", "");
+    assert!(
+        setup.contains("\"algorithm\":\"diagonal_corners\""),
+        "{setup}"
+    );
+    assert!(setup.contains("\"name\":\"converge_quadrant\""), "{setup}");
+    let state = request("POST", "/api/step", r#"{"count": 2}"#);
+    assert!(state.contains("\"rounds\":2"), "{state}");
+}

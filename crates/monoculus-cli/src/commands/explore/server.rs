@@ -26,6 +26,14 @@ pub const MAX_BODY: usize = 64 << 20;
 
 static PAGE: &str = include_str!("../../../assets/explore.html");
 
+/// The page, with the drawing script it shares with the replay page.
+fn page_html() -> &'static str {
+    static HTML: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+        PAGE.replacen(monoculus_plot::VIEW_SLOT, monoculus_plot::VIEW_JS, 1)
+    });
+    &HTML
+}
+
 /// What every request is checked against.
 struct Guard {
     token: String,
@@ -222,7 +230,11 @@ fn json_or(r: Result<Value, Response>) -> Response {
 }
 
 async fn page() -> Response {
-    let mut r = ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], PAGE).into_response();
+    let mut r = (
+        [(header::CONTENT_TYPE, "text/html; charset=utf-8")],
+        page_html(),
+    )
+        .into_response();
     r.headers_mut().insert(
         header::CONTENT_SECURITY_POLICY,
         HeaderValue::from_static(

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use glam::DVec2;
+use monoculus_core::geometry::convex_hull_2d;
 use monoculus_core::observe::inspect;
 use monoculus_engine::{Activity, IndexedSight, RunOutcome, Simulation};
 use monoculus_experiments::config::{InitKind, Seeds};
@@ -288,8 +289,8 @@ impl Session {
         }
     }
 
-    /// The state the page draws: robots, their states and lights, the metrics from row
-    /// `since` on, the verdict.
+    /// The state the page draws: robots, their hull, states and lights, the metrics from
+    /// row `since` on (and with `since = 0` the start), the verdict.
     pub fn state(&mut self, since: usize) -> Value {
         let (v, line) = self.verdict();
         let now = self.sim.positions_now();
@@ -306,7 +307,9 @@ impl Session {
         json!({
             "n": now.len(),
             "positions": f64s(now.iter().flat_map(|p| [p.x, p.y])),
-            "start": f64s(self.start.iter().flat_map(|p| [p.x, p.y])),
+            // The start and the history change only when the run starts again.
+            "start": if from == 0 { Some(f64s(self.start.iter().flat_map(|p| [p.x, p.y]))) } else { None },
+            "hull": f64s(convex_hull_2d(&now).iter().flat_map(|p| [p.x, p.y])),
             "states": base64(&states),
             "bits": if kind.shows_bits() { base64(&bits) } else { String::new() },
             "lights": base64(&lights),
