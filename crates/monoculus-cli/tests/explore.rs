@@ -497,3 +497,71 @@ fn bad_arguments_fail_as_bad_input() {
         assert!(e.contains(says), "{args:?}: {e}");
     }
 }
+
+#[test]
+fn a_positions_csv_loads_and_a_bad_one_is_refused_by_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let ex = Explorer::start(&[&config(dir.path())]);
+    let st: Value = {
+        let (status, text) = ex.post("/api/positions?name=mine.csv", "x,y\n0,0\n1,0.5\n2,2\n");
+        assert_eq!(status, 200, "{text}");
+        serde_json::from_str(&text).unwrap()
+    };
+    assert_eq!(st["n"], 3);
+    assert_eq!(positions(&st), vec![0.0, 0.0, 1.0, 0.5, 2.0, 2.0]);
+    let (status, text) = ex.post("/api/positions?name=mine.csv", "x,y\n0,0\n1,zero\n");
+    assert_eq!(status, 400);
+    assert!(text.contains("mine.csv:3"), "{text}");
+    let (status, text) = ex.post("/api/positions?name=mine.csv", "x,y,z\n0,0,1\n");
+    assert_eq!((status, text.contains("plane")), (400, true), "{text}");
+    assert_eq!(
+        ex.fetch("/api/state")["n"],
+        3,
+        "refused files change nothing"
+    );
+    // The start generated from the settings' [swarm] again.
+    assert_eq!(ex.call("/api/generate", json!({}))["n"], 5);
+}
+
+#[test]
+fn under_async_a_step_is_an_epoch_and_robots_can_be_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let ex = Explorer::start(&[&config(dir.path()), "--set", "scheduler.kind=async"]);
+    let st = ex.call("/api/step", json!({"count": 1}));
+    assert_eq!(st["ticks"], true);
+    assert_eq!(st["rounds"], 1, "one epoch");
+    assert!(st["time"].as_u64().unwrap() > 1, "over several ticks: {st}");
+    let ticks = st["metrics"]["time"].as_array().unwrap().len();
+    assert!(ticks > 2, "a row per tick");
+    for i in 0..5 {
+        let r = ex.fetch(&format!("/api/robot?i={i}"));
+        assert!(r["failure"].is_null() && r["seen"].is_array(), "{r}");
+    }
+    let end = ex.call("/api/step", json!({"count": null}));
+    assert_eq!(end["ended"], true);
+    assert!(end["outcome"].as_str().unwrap().contains("epochs"), "{end}");
+}
+
+#[test]
+fn ctrl_c_stops_the_explorer() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut ex = Explorer::start(&[&config(dir.path())]);
+    assert_eq!(ex.get("/api/setup").0, 200);
+    let pid = ex.child.id().to_string();
+    assert!(
+        Command::new("kill")
+            .args(["-INT", &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = ex.child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(t0.elapsed().as_secs() < 10, "still running after Ctrl-C");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(130));
+}
