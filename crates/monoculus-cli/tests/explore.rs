@@ -486,6 +486,7 @@ fn bad_arguments_fail_as_bad_input() {
     let cfg = config(dir.path());
     for (args, says) in [
         (vec!["explore", &cfg, "--host", "localhost:80"], "--host"),
+        (vec!["explore", &cfg, "--host", "0.0.0.0"], "one address"),
         (vec!["explore", &cfg, "--set", "swarm.n=[3, 4]"], "one cell"),
         (vec!["explore", &cfg, "--set", "swarm.dim=3"], "plane"),
         (vec!["explore", "missing.toml"], "missing.toml"),

@@ -63,6 +63,12 @@ pub fn serve(
             "--host `{host}`: expected an IP address, e.g. 127.0.0.1"
         ))
     })?;
+    if ip.is_unspecified() {
+        // The Host check needs the one address the explorer is reached at.
+        return Err(Failure::Input(format!(
+            "--host {host}: name one address to serve (127.0.0.1, or this machine's address on its network), not all of them"
+        )));
+    }
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_io()
         .build()?;
