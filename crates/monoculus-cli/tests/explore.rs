@@ -4,9 +4,9 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 
 use common::{monoculus, ok, s};
 use serde_json::{Value, json};
@@ -22,21 +22,7 @@ struct Explorer {
 
 impl Explorer {
     fn start(args: &[&str]) -> Explorer {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_monoculus"))
-            .arg("explore")
-            .args(args)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().unwrap())
-            .read_line(&mut line)
-            .unwrap();
-        let url = line
-            .trim()
-            .strip_prefix("monoculus explore: ")
-            .unwrap_or_else(|| panic!("the address line: {line:?}"));
+        let (child, url) = common::explore(env!("CARGO_BIN_EXE_monoculus"), args);
         let (base, token) = url.split_once("/?token=").unwrap();
         let agent = ureq::Agent::config_builder()
             .http_status_as_error(false)

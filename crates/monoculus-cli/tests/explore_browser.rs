@@ -8,11 +8,11 @@
 //!     cargo test -p monoculus-cli --test explore_browser -- --ignored
 //! With `MONOCULUS_EXPLORE_SHOT=FILE` the last screenshot is kept there.
 
+#[path = "common/chromium.rs"]
+mod chromium;
 mod common;
 
-use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::Child;
 use std::time::{Duration, Instant};
 
 use chromiumoxide::browser::{Browser, BrowserConfig};
@@ -33,17 +33,41 @@ impl Drop for Server {
     }
 }
 
-fn chromium() -> PathBuf {
-    std::env::var_os("MONOCULUS_CHROMIUM")
-        .map(PathBuf::from)
-        .or_else(|| {
-            std::env::var_os("PATH").and_then(|paths| {
-                std::env::split_paths(&paths)
-                    .map(|p| p.join("chromium"))
-                    .find(|p| p.is_file())
-            })
-        })
-        .expect("no Chromium: set MONOCULUS_CHROMIUM or install it (scripts/browser-ci.sh does)")
+/// Headless Chromium with a profile of its own, its event loop, on the explorer at `url`:
+/// the page once its script says it is ready.
+async fn open(
+    url: &str,
+) -> (
+    Browser,
+    tokio::task::JoinHandle<()>,
+    tempfile::TempDir,
+    Page,
+) {
+    let profile = chromium::scratch();
+    let (browser, mut handler) = Browser::launch(
+        BrowserConfig::builder()
+            .chrome_executable(chromium::exe())
+            .no_sandbox()
+            .arg("--disable-gpu")
+            .user_data_dir(profile.path())
+            .window_size(1400, 800)
+            .viewport(None)
+            .build()
+            .unwrap(),
+    )
+    .await
+    .unwrap();
+    let events = tokio::spawn(async move { while handler.next().await.is_some() {} });
+    let page = browser.new_page(url).await.unwrap();
+    wait_for(&page, "status", "ready").await;
+    (browser, events, profile, page)
+}
+
+/// Closes what [`open`] opened.
+async fn close(mut browser: Browser, events: tokio::task::JoinHandle<()>) {
+    browser.close().await.unwrap();
+    let _ = browser.wait().await;
+    events.abort();
 }
 
 /// A value of the page's `document.body.dataset`.
@@ -122,44 +146,10 @@ async fn robots_added_by_clicks_are_stepped_and_one_shows_what_it_sees() {
         "name = \"two\"\n[swarm]\ninit = \"file\"\nfile = \"two.csv\"\n[algorithm]\nname = \"converge_locality\"\ntarget = \"random_rejection\"\n",
     )
     .unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_monoculus"))
-        .args(["explore", config.to_str().unwrap()])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
+    let (child, url) =
+        common::explore(env!("CARGO_BIN_EXE_monoculus"), &[config.to_str().unwrap()]);
     let _server = Server(child);
-    let url = line
-        .trim()
-        .strip_prefix("monoculus explore: ")
-        .unwrap()
-        .to_string();
-
-    let profile = match std::env::var_os("MONOCULUS_BROWSER_TMP") {
-        Some(b) => tempfile::tempdir_in(b).unwrap(),
-        None => tempfile::tempdir().unwrap(),
-    };
-    let (mut browser, mut handler) = Browser::launch(
-        BrowserConfig::builder()
-            .chrome_executable(chromium())
-            .no_sandbox()
-            .arg("--disable-gpu")
-            .user_data_dir(profile.path())
-            .window_size(1400, 800)
-            .viewport(None)
-            .build()
-            .unwrap(),
-    )
-    .await
-    .unwrap();
-    let events = tokio::spawn(async move { while handler.next().await.is_some() {} });
-
-    let page = browser.new_page(url.as_str()).await.unwrap();
-    wait_for(&page, "status", "ready").await;
+    let (browser, events, _profile, page) = open(&url).await;
     assert_eq!(data(&page, "n").await, "2");
 
     // Three robots by clicks on empty ground: each lands where it was clicked.
@@ -248,10 +238,7 @@ async fn robots_added_by_clicks_are_stepped_and_one_shows_what_it_sees() {
         .unwrap();
     assert!(text.starts_with("robot 0 at"), "{text}");
     assert!(text.contains("last Look"), "{text}");
-
-    browser.close().await.unwrap();
-    let _ = browser.wait().await;
-    events.abort();
+    close(browser, events).await;
 }
 
 /// The explorer's play rate, a benchmark rather than a test: with
@@ -271,50 +258,19 @@ async fn play_rate_benchmark() {
     let bin = std::env::var("MONOCULUS_BIN")
         .unwrap_or_else(|_| env!("CARGO_BIN_EXE_monoculus").to_string());
     let side = (n as f64).sqrt();
-    let mut child = Command::new(bin)
-        .args([
-            "explore",
+    let (child, url) = common::explore(
+        &bin,
+        &[
             "--set",
             &format!("swarm.n={n}"),
             "--set",
             &format!("swarm.side={side}"),
             "--set",
             "stop.max_rounds=100000",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
+        ],
+    );
     let _server = Server(child);
-    let url = line
-        .trim()
-        .strip_prefix("monoculus explore: ")
-        .unwrap()
-        .to_string();
-    let profile = match std::env::var_os("MONOCULUS_BROWSER_TMP") {
-        Some(b) => tempfile::tempdir_in(b).unwrap(),
-        None => tempfile::tempdir().unwrap(),
-    };
-    let (mut browser, mut handler) = Browser::launch(
-        BrowserConfig::builder()
-            .chrome_executable(chromium())
-            .no_sandbox()
-            .arg("--disable-gpu")
-            .user_data_dir(profile.path())
-            .window_size(1400, 800)
-            .viewport(None)
-            .build()
-            .unwrap(),
-    )
-    .await
-    .unwrap();
-    let events = tokio::spawn(async move { while handler.next().await.is_some() {} });
-    let page = browser.new_page(url.as_str()).await.unwrap();
-    wait_for(&page, "status", "ready").await;
+    let (browser, events, _profile, page) = open(&url).await;
     // Count the frames the page draws while it plays.
     page.evaluate("(() => { const d = document.body.dataset; d.frames = '0'; const c = document.getElementById('view'); const ctx = c.getContext('2d'); const fill = ctx.fillRect.bind(ctx); ctx.fillRect = function (x, y, w, h) { if (x === 0 && y === 0 && w === c.width) d.frames = String(+d.frames + 1); return fill(x, y, w, h); }; })()")
         .await
@@ -340,7 +296,5 @@ async fn play_rate_benchmark() {
         rounds / seconds,
         frames / seconds
     );
-    browser.close().await.unwrap();
-    let _ = browser.wait().await;
-    events.abort();
+    close(browser, events).await;
 }

@@ -9,14 +9,7 @@ use glam::DVec2;
 use monoculus_core::prelude::*;
 use monoculus_engine::prelude::*;
 
-const KINDS: [AlgorithmKind; 6] = [
-    AlgorithmKind::ConvergeLocality,
-    AlgorithmKind::ConvergeQuadrant,
-    AlgorithmKind::ConvergeQuadrantTermination,
-    AlgorithmKind::CenterOfGravity,
-    AlgorithmKind::Median,
-    AlgorithmKind::AngleBisector,
-];
+const KINDS: [AlgorithmKind; 6] = AlgorithmKind::ALL;
 
 #[test]
 fn under_fsync_it_is_the_next_round_s_move() {

@@ -1,9 +1,34 @@
 //! Headless Chromium for the browser tests: a page's DOM after its script ran, and
 //! screenshots read back as pixels.
 
+#![allow(dead_code, reason = "each test binary uses a part")]
+
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+
+/// The Chromium the tests use: `$MONOCULUS_CHROMIUM`, else `chromium` on the PATH.
+pub fn exe() -> PathBuf {
+    std::env::var_os("MONOCULUS_CHROMIUM")
+        .map(PathBuf::from)
+        .or_else(|| {
+            std::env::var_os("PATH").and_then(|paths| {
+                std::env::split_paths(&paths)
+                    .map(|p| p.join("chromium"))
+                    .find(|p| p.is_file())
+            })
+        })
+        .expect("no Chromium: set MONOCULUS_CHROMIUM or install it (scripts/browser-ci.sh does)")
+}
+
+/// A profile folder for one Chromium, under `$MONOCULUS_BROWSER_TMP` when set (where
+/// scripts/browser-ci.sh stops any Chromium left).
+pub fn scratch() -> tempfile::TempDir {
+    match std::env::var_os("MONOCULUS_BROWSER_TMP") {
+        Some(b) => tempfile::tempdir_in(b).unwrap(),
+        None => tempfile::tempdir().unwrap(),
+    }
+}
 
 /// One headless Chromium, each call a fresh process with its own profile folder under
 /// `dir` (killed if it outlives its deadline).
@@ -15,23 +40,7 @@ pub struct Browser {
 
 impl Browser {
     pub fn new() -> Browser {
-        let exe = std::env::var_os("MONOCULUS_CHROMIUM")
-            .map(PathBuf::from)
-            .or_else(|| {
-                std::env::var_os("PATH").and_then(|paths| {
-                    std::env::split_paths(&paths)
-                        .map(|p| p.join("chromium"))
-                        .find(|p| p.is_file())
-                })
-            })
-            .expect(
-                "no Chromium: set MONOCULUS_CHROMIUM or install it (scripts/browser-ci.sh does)",
-            );
-        let base = std::env::var_os("MONOCULUS_BROWSER_TMP").map(PathBuf::from);
-        let dir = match base {
-            Some(b) => tempfile::tempdir_in(b).unwrap(),
-            None => tempfile::tempdir().unwrap(),
-        };
+        let (exe, dir) = (exe(), scratch());
         Browser {
             exe,
             dir,

@@ -90,3 +90,26 @@ pub fn summary_field(dir: &Path, key: &str) -> String {
         })
         .unwrap_or_else(|| panic!("no {key} in {text}"))
 }
+
+/// Starts `program` (a monoculus binary) as `explore ARGS`; the process and the address it
+/// printed (`http://127.0.0.1:PORT/?token=...`). The caller stops the process.
+pub fn explore(program: &str, args: &[&str]) -> (std::process::Child, String) {
+    use std::io::{BufRead, BufReader};
+    let mut child = Command::new(program)
+        .arg("explore")
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let url = line
+        .trim()
+        .strip_prefix("monoculus explore: ")
+        .unwrap_or_else(|| panic!("the address line: {line:?}"))
+        .to_string();
+    (child, url)
+}

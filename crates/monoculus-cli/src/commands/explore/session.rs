@@ -412,7 +412,7 @@ impl Session {
     /// sides (OLA), and the light each shows.
     fn look(&self, points: &[DVec2], robot: usize, lights: &[u8]) -> Vec<Value> {
         let cell = self.cell();
-        let sight = IndexedSight::new(points.to_vec(), cell.sim_config(self.seed).vision);
+        let sight = IndexedSight::new(points.to_vec(), self.sim.config().vision);
         inspect(&sight, robot, cell.spec.algorithm.locality)
             .iter()
             .map(|s| {
